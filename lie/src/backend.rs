@@ -1,0 +1,143 @@
+//! The backend abstraction: the handful of primitive vector, matrix and
+//! quaternion operations that every Lie formula in this crate is built from.
+//!
+//! A backend is a zero-sized marker type ([`NalgebraF32`](crate::NalgebraF32),
+//! [`GlamF64`](crate::GlamF64), …) naming a (linear-algebra library, scalar)
+//! pair. Its associated types *are* that library's own types — `glam::DVec3`,
+//! `nalgebra::Matrix3<f32>` — so values cross the API boundary without any
+//! conversion, and each primitive is a one-line call to the library. The
+//! arithmetic operators come straight from the library through the bounds on
+//! the associated types; only what has no common operator (dot, cross,
+//! columns, quaternion product and rotation) is a trait function.
+
+use crate::Real;
+use core::fmt::Debug;
+use core::ops::{Add, Mul, Neg, Sub};
+
+/// A (linear-algebra library, scalar) pair. See the module docs.
+pub trait Backend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 'static {
+    /// The scalar, `f32` or `f64`.
+    type Scalar: Real;
+    /// The library's 3-vector.
+    type Vec3: Copy
+        + Debug
+        + PartialEq
+        + Send
+        + Sync
+        + Add<Output = Self::Vec3>
+        + Sub<Output = Self::Vec3>
+        + Neg<Output = Self::Vec3>
+        + Mul<Self::Scalar, Output = Self::Vec3>;
+    /// The library's 3×3 matrix.
+    type Mat3: Copy
+        + Debug
+        + PartialEq
+        + Send
+        + Sync
+        + Add<Output = Self::Mat3>
+        + Sub<Output = Self::Mat3>
+        + Mul<Self::Mat3, Output = Self::Mat3>
+        + Mul<Self::Vec3, Output = Self::Vec3>
+        + Mul<Self::Scalar, Output = Self::Mat3>;
+    /// The library's quaternion (assumed unit wherever it is used here).
+    type Quat: Copy + Debug + PartialEq + Send + Sync;
+
+    /// Short name used in reports and test names, e.g. `"glam-f32"`.
+    const NAME: &'static str;
+
+    /// Builds a vector from components.
+    fn vec3(x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self::Vec3;
+    /// Components of a vector.
+    fn vec3_to_array(v: Self::Vec3) -> [Self::Scalar; 3];
+    /// Dot product.
+    fn dot(a: Self::Vec3, b: Self::Vec3) -> Self::Scalar;
+    /// Cross product.
+    fn cross(a: Self::Vec3, b: Self::Vec3) -> Self::Vec3;
+    /// Builds a matrix from its three columns.
+    fn mat3_from_cols(c0: Self::Vec3, c1: Self::Vec3, c2: Self::Vec3) -> Self::Mat3;
+    /// The three columns of a matrix.
+    fn mat3_cols(m: Self::Mat3) -> [Self::Vec3; 3];
+    /// Transpose.
+    fn mat3_transpose(m: Self::Mat3) -> Self::Mat3;
+    /// The transpose times a vector, `mᵀ v`, without forming `mᵀ`.
+    fn mat3_tr_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3;
+    /// Builds a quaternion `w + x i + y j + z k`.
+    fn quat_from_wxyz(w: Self::Scalar, x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self::Quat;
+    /// Components `[w, x, y, z]`.
+    fn quat_to_wxyz(q: Self::Quat) -> [Self::Scalar; 4];
+    /// Hamilton product `a ⊗ b`.
+    fn quat_mul(a: Self::Quat, b: Self::Quat) -> Self::Quat;
+    /// Conjugate (the inverse of a unit quaternion).
+    fn quat_conj(q: Self::Quat) -> Self::Quat;
+    /// Rotates a vector by a unit quaternion, `q v q*`.
+    fn quat_rotate(q: Self::Quat, v: Self::Vec3) -> Self::Vec3;
+}
+
+/// Scalar alias for a backend.
+pub type S<B> = <B as Backend>::Scalar;
+/// Vector alias for a backend.
+pub type V3<B> = <B as Backend>::Vec3;
+/// Matrix alias for a backend.
+pub type M3<B> = <B as Backend>::Mat3;
+
+/// Derived helpers written once on top of the primitives.
+pub(crate) mod ops {
+    use super::*;
+    use num_traits::{Float, One, Zero};
+
+    #[inline(always)]
+    pub fn zero<B: Backend>() -> V3<B> {
+        let z = S::<B>::zero();
+        B::vec3(z, z, z)
+    }
+    #[inline(always)]
+    pub fn norm<B: Backend>(v: V3<B>) -> S<B> {
+        B::dot(v, v).sqrt()
+    }
+    #[inline(always)]
+    pub fn identity<B: Backend>() -> M3<B> {
+        diag::<B>(S::<B>::one(), S::<B>::one(), S::<B>::one())
+    }
+    #[inline(always)]
+    pub fn diag<B: Backend>(a: S<B>, b: S<B>, c: S<B>) -> M3<B> {
+        let z = S::<B>::zero();
+        B::mat3_from_cols(B::vec3(a, z, z), B::vec3(z, b, z), B::vec3(z, z, c))
+    }
+    /// Elements, indexed `[row][col]`.
+    #[inline(always)]
+    pub fn elems<B: Backend>(m: M3<B>) -> [[S<B>; 3]; 3] {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        let (a, b, c) = (B::vec3_to_array(c0), B::vec3_to_array(c1), B::vec3_to_array(c2));
+        [[a[0], b[0], c[0]], [a[1], b[1], c[1]], [a[2], b[2], c[2]]]
+    }
+    /// Builds from elements indexed `[row][col]`.
+    #[inline(always)]
+    pub fn from_elems<B: Backend>(e: [[S<B>; 3]; 3]) -> M3<B> {
+        B::mat3_from_cols(
+            B::vec3(e[0][0], e[1][0], e[2][0]),
+            B::vec3(e[0][1], e[1][1], e[2][1]),
+            B::vec3(e[0][2], e[1][2], e[2][2]),
+        )
+    }
+    /// Frobenius inner product `tr(aᵀ b)`.
+    #[inline(always)]
+    pub fn frob_dot<B: Backend>(a: M3<B>, b: M3<B>) -> S<B> {
+        let [a0, a1, a2] = B::mat3_cols(a);
+        let [b0, b1, b2] = B::mat3_cols(b);
+        B::dot(a0, b0) + B::dot(a1, b1) + B::dot(a2, b2)
+    }
+    #[inline(always)]
+    pub fn frob_norm<B: Backend>(a: M3<B>) -> S<B> {
+        frob_dot::<B>(a, a).sqrt()
+    }
+    #[inline(always)]
+    pub fn is_finite_vec<B: Backend>(v: V3<B>) -> bool {
+        let a = B::vec3_to_array(v);
+        a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
+    }
+    #[inline(always)]
+    pub fn is_finite_mat<B: Backend>(m: M3<B>) -> bool {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        is_finite_vec::<B>(c0) && is_finite_vec::<B>(c1) && is_finite_vec::<B>(c2)
+    }
+}

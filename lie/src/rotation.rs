@@ -1,0 +1,79 @@
+//! The interface both SO(3) representations implement, so controllers,
+//! integrators and tests are written once for either.
+
+use crate::backend::ops;
+use crate::{Backend, M3, S, V3};
+use core::fmt::Debug;
+
+/// An element of SO(3) in some representation (rotation matrix or unit
+/// quaternion) on backend `B`. `R` maps body-frame vectors to the inertial
+/// frame.
+pub trait Rotation<B: Backend>: Copy + Debug + PartialEq + core::ops::Mul<Output = Self> {
+    /// `"matrix"` or `"quaternion"`, for reports.
+    const REPR: &'static str;
+
+    /// The identity rotation.
+    fn identity() -> Self;
+    /// `self ∘ rhs` (apply `rhs` first).
+    fn compose(self, rhs: Self) -> Self;
+    /// The inverse rotation.
+    fn inverse(self) -> Self;
+    /// `R v`.
+    fn act(self, v: V3<B>) -> V3<B>;
+    /// `Rᵀ v`, without forming the inverse.
+    fn inverse_act(self, v: V3<B>) -> V3<B>;
+    /// `exp(φ^)`: the rotation by angle `|φ|` about `φ/|φ|`.
+    fn exp(phi: V3<B>) -> Self;
+    /// The inverse of [`Rotation::exp`] with the angle in `[0, π]`. At exactly
+    /// π both `±φ` are logarithms; either may be returned.
+    fn log(self) -> V3<B>;
+    /// The rotation matrix.
+    fn matrix(self) -> M3<B>;
+    /// From a rotation matrix, trusted to be orthogonal with det +1 (use
+    /// [`So3Mat::project`](crate::So3Mat::project) for one that is not).
+    fn from_matrix(m: M3<B>) -> Self;
+    /// The unit quaternion.
+    fn quaternion(self) -> B::Quat;
+    /// From a unit quaternion.
+    fn from_quaternion(q: B::Quat) -> Self;
+    /// The paper's attitude error function (Proposition 1)
+    /// `Ψ(R, R_d) = ½ tr(I − R_dᵀ R)`, in `[0, 2]`.
+    fn psi(self, rd: Self) -> S<B>;
+    /// The paper's attitude error vector (Proposition 1)
+    /// `e_R = ½ (R_dᵀ R − Rᵀ R_d)^∨`, which is `sin θ · axis` of `R_dᵀ R`.
+    fn e_r(self, rd: Self) -> V3<B>;
+    /// `‖RᵀR − I‖_F` of the represented matrix: 0 on SO(3), grows with
+    /// rounding drift.
+    fn orthogonality_error(self) -> S<B>;
+    /// Brought back onto SO(3): polar projection for a matrix, division by
+    /// the norm for a quaternion.
+    fn normalized(self) -> Self;
+
+    /// The adjoint `Ad_R`, which for SO(3) is `R` itself:
+    /// `exp((Rφ)^) = R exp(φ^) Rᵀ`.
+    #[inline]
+    fn adjoint(self) -> M3<B> {
+        self.matrix()
+    }
+
+    /// The angle of the rotation, in `[0, π]`.
+    #[inline]
+    fn angle(self) -> S<B> {
+        ops::norm::<B>(self.log())
+    }
+
+    /// Geodesic interpolation `self · exp(t log(self⁻¹ · other))`: constant
+    /// angular velocity from `self` (t = 0) to `other` (t = 1), along the
+    /// shorter arc.
+    #[inline]
+    fn slerp(self, other: Self, t: S<B>) -> Self {
+        self * Self::exp((self.inverse() * other).log() * t)
+    }
+}
+
+/// The paper's angular-velocity error (Proposition 1)
+/// `e_Ω = Ω − Rᵀ R_d Ω_d`, with `Ω` and `Ω_d` in their body frames.
+#[inline]
+pub fn e_omega<B: Backend, R: Rotation<B>>(r: R, omega: V3<B>, rd: R, omega_d: V3<B>) -> V3<B> {
+    omega - r.inverse_act(rd.act(omega_d))
+}

@@ -1,0 +1,232 @@
+//! SO(3) in the rotation-matrix representation, and the representation-free
+//! parts of SO(3): hat/vee and the left/right Jacobians of the exponential.
+//!
+//! Conventions: `hat(x) y = x × y`; `exp(φ^)` is the rotation by `|φ|` about
+//! `φ/|φ|`; the left Jacobian satisfies `exp(φ + δ) ≈ exp(J_l(φ) δ) exp(φ)`
+//! and the right one `exp(φ + δ) ≈ exp(φ) exp(J_r(φ) δ)`, with
+//! `J_r(φ) = J_l(−φ)`.
+
+use crate::backend::ops;
+use crate::{Backend, LieError, M3, Rotation, S, V3, quat, series};
+use crate::Real as _;
+use num_traits::{Float, One, Zero};
+
+/// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
+#[inline]
+pub fn hat<B: Backend>(x: V3<B>) -> M3<B> {
+    let [a, b, c] = B::vec3_to_array(x);
+    let z = S::<B>::zero();
+    B::mat3_from_cols(B::vec3(z, c, -b), B::vec3(-c, z, a), B::vec3(b, -a, z))
+}
+
+/// `vee(m)`, the inverse of [`hat`]. It reads the skew-symmetric part
+/// `½(m − mᵀ)`, so it is exact for skew input and the least-squares answer
+/// otherwise.
+#[inline]
+pub fn vee<B: Backend>(m: M3<B>) -> V3<B> {
+    let e = ops::elems::<B>(m);
+    let h = S::<B>::lit(0.5);
+    B::vec3(h * (e[2][1] - e[1][2]), h * (e[0][2] - e[2][0]), h * (e[1][0] - e[0][1]))
+}
+
+/// `a0 I + a1 φ^ + a2 φ φᵀ`, built element-wise: every SO(3) series
+/// (exp, both Jacobians and their inverses) has this shape once `φ^²` is
+/// written as `φ φᵀ − θ² I`.
+#[inline(always)]
+pub(crate) fn rodrigues<B: Backend>(a0: S<B>, a1: S<B>, a2: S<B>, phi: V3<B>) -> M3<B> {
+    let [x, y, z] = B::vec3_to_array(phi);
+    let (xy, xz, yz) = (a2 * x * y, a2 * x * z, a2 * y * z);
+    let (sx, sy, sz) = (a1 * x, a1 * y, a1 * z);
+    B::mat3_from_cols(
+        B::vec3(a0 + a2 * x * x, xy + sz, xz - sy),
+        B::vec3(xy - sz, a0 + a2 * y * y, yz + sx),
+        B::vec3(xz + sy, yz - sx, a0 + a2 * z * z),
+    )
+}
+
+/// The left Jacobian `J_l(φ) = I + B φ^ + C φ^²` (series near zero).
+#[inline]
+pub fn left_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
+    let theta = ops::norm::<B>(phi);
+    let (a, b, _) = series::exp_coeffs(theta);
+    rodrigues::<B>(a, b, series::c_coeff(theta), phi)
+}
+
+/// The right Jacobian `J_r(φ) = J_l(−φ)`.
+#[inline]
+pub fn right_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
+    let theta = ops::norm::<B>(phi);
+    let (a, b, _) = series::exp_coeffs(theta);
+    rodrigues::<B>(a, -b, series::c_coeff(theta), phi)
+}
+
+/// `J_l⁻¹(φ) = I − ½ φ^ + D φ^²`; finite for `|φ| < 2π`.
+#[inline]
+pub fn left_jacobian_inv<B: Backend>(phi: V3<B>) -> M3<B> {
+    let theta = ops::norm::<B>(phi);
+    let d = series::d_coeff(theta);
+    rodrigues::<B>(S::<B>::one() - d * theta * theta, S::<B>::lit(-0.5), d, phi)
+}
+
+/// `J_r⁻¹(φ) = I + ½ φ^ + D φ^²`; the `dexp⁻¹` of Runge–Kutta–Munthe-Kaas
+/// methods in the right-trivialised form `u̇ = J_r⁻¹(u) Ω`.
+#[inline]
+pub fn right_jacobian_inv<B: Backend>(phi: V3<B>) -> M3<B> {
+    let theta = ops::norm::<B>(phi);
+    let d = series::d_coeff(theta);
+    rodrigues::<B>(S::<B>::one() - d * theta * theta, S::<B>::lit(0.5), d, phi)
+}
+
+/// `‖RᵀR − I‖_F`, the distance of a matrix from orthogonality.
+#[inline]
+pub fn orthogonality_error<B: Backend>(m: M3<B>) -> S<B> {
+    ops::frob_norm::<B>(B::mat3_transpose(m) * m - ops::identity::<B>())
+}
+
+/// A rotation stored as a 3×3 rotation matrix of the backend's own type.
+///
+/// The matrix is public through [`So3Mat::matrix`] and built without checks
+/// by [`So3Mat::from_matrix_unchecked`], so data moves in and out of a
+/// user's glam or nalgebra code for free; [`So3Mat::project`] is the checked
+/// way in.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct So3Mat<B: Backend>(pub(crate) M3<B>);
+
+impl<B: Backend> So3Mat<B> {
+    /// Wraps a matrix the caller knows to be a rotation.
+    #[inline]
+    pub fn from_matrix_unchecked(m: M3<B>) -> Self {
+        Self(m)
+    }
+
+    /// The nearest rotation to `m` in the Frobenius norm: the orthogonal
+    /// factor of the polar decomposition `m = U P`.
+    ///
+    /// Computed by Higham's scaled Newton iteration `X ← ½(γX + X⁻ᵀ/γ)`, with
+    /// `X⁻ᵀ` from cross products of the columns; it converges quadratically
+    /// (two or three iterations for a matrix that drifted from orthogonality
+    /// by integration) and needs no SVD, so it is `no_std` and allocation
+    /// free. Fails on non-finite input and when `det m ≤ 0`, where the nearest
+    /// orthogonal matrix is a reflection, not a rotation.
+    pub fn project(m: M3<B>) -> Result<Self, LieError> {
+        if !ops::is_finite_mat::<B>(m) {
+            return Err(LieError::NonFinite { what: "matrix to project onto SO(3)" });
+        }
+        let half = S::<B>::lit(0.5);
+        let tol = S::<B>::epsilon() * S::<B>::lit(8.0);
+        let mut x = m;
+        for _ in 0..30 {
+            let [c0, c1, c2] = B::mat3_cols(x);
+            let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
+            let det = B::dot(c0, B::cross(c1, c2));
+            if !(det > S::<B>::zero()) {
+                return Err(LieError::NotProjectable { det: det.to_f64_lossless() });
+            }
+            let inv_t = cof * (S::<B>::one() / det);
+            let gamma = (ops::frob_norm::<B>(inv_t) / ops::frob_norm::<B>(x)).sqrt();
+            let next = (x * gamma + inv_t * (S::<B>::one() / gamma)) * half;
+            let step = ops::frob_norm::<B>(next - x);
+            x = next;
+            if step <= tol {
+                return Ok(Self(x));
+            }
+        }
+        Ok(Self(x))
+    }
+
+    /// One Newton–Schulz step `R(3I − RᵀR)/2`: the cheap re-orthonormalisation
+    /// for a matrix within ~1e-3 of SO(3) (it squares the error), e.g. every
+    /// few hundred steps of a Lie-group integrator in f32.
+    #[inline]
+    pub fn renormalized(self) -> Self {
+        let three = ops::identity::<B>() * S::<B>::lit(3.0);
+        Self(self.0 * (three - B::mat3_transpose(self.0) * self.0) * S::<B>::lit(0.5))
+    }
+
+    /// The rotation by `angle` about the unit vector `axis`.
+    #[inline]
+    pub fn from_axis_angle(axis: V3<B>, angle: S<B>) -> Self {
+        <Self as Rotation<B>>::exp(axis * angle)
+    }
+}
+
+impl<B: Backend> Rotation<B> for So3Mat<B> {
+    const REPR: &'static str = "matrix";
+
+    #[inline]
+    fn identity() -> Self {
+        Self(ops::identity::<B>())
+    }
+    #[inline]
+    fn compose(self, rhs: Self) -> Self {
+        Self(self.0 * rhs.0)
+    }
+    #[inline]
+    fn inverse(self) -> Self {
+        Self(B::mat3_transpose(self.0))
+    }
+    #[inline]
+    fn act(self, v: V3<B>) -> V3<B> {
+        self.0 * v
+    }
+    #[inline]
+    fn inverse_act(self, v: V3<B>) -> V3<B> {
+        B::mat3_tr_mul_vec(self.0, v)
+    }
+    /// `exp(φ^) = cos θ I + (sin θ/θ) φ^ + ((1 − cos θ)/θ²) φ φᵀ` (Rodrigues).
+    #[inline]
+    fn exp(phi: V3<B>) -> Self {
+        let (a, b, c) = series::exp_coeffs(ops::norm::<B>(phi));
+        Self(rodrigues::<B>(c, a, b, phi))
+    }
+    /// Through the quaternion of the largest pivot (Shepperd), then
+    /// `2 atan2(|q_v|, w) q_v/|q_v|`: accurate to rounding at every angle,
+    /// including exactly π, where `acos((tr R − 1)/2)` loses half its digits.
+    #[inline]
+    fn log(self) -> V3<B> {
+        quat::log_wxyz::<B>(quat::shepperd::<B>(self.0))
+    }
+    #[inline]
+    fn matrix(self) -> M3<B> {
+        self.0
+    }
+    #[inline]
+    fn from_matrix(m: M3<B>) -> Self {
+        Self(m)
+    }
+    #[inline]
+    fn quaternion(self) -> B::Quat {
+        let [w, x, y, z] = quat::shepperd::<B>(self.0);
+        let n = S::<B>::one() / (w * w + x * x + y * y + z * z).sqrt();
+        B::quat_from_wxyz(w * n, x * n, y * n, z * n)
+    }
+    #[inline]
+    fn from_quaternion(q: B::Quat) -> Self {
+        Self(quat::to_matrix::<B>(q))
+    }
+    /// `½ tr(I − Rdᵀ R)` as `½(3 − ⟨Rd, R⟩_F)`: nine products, no matrix product.
+    #[inline]
+    fn psi(self, rd: Self) -> S<B> {
+        S::<B>::lit(0.5) * (S::<B>::lit(3.0) - ops::frob_dot::<B>(rd.0, self.0))
+    }
+    #[inline]
+    fn e_r(self, rd: Self) -> V3<B> {
+        vee::<B>(B::mat3_transpose(rd.0) * self.0)
+    }
+    #[inline]
+    fn orthogonality_error(self) -> S<B> {
+        orthogonality_error::<B>(self.0)
+    }
+    #[inline]
+    fn normalized(self) -> Self {
+        Self::project(self.0).unwrap_or(self)
+    }
+}
+
+impl<B: Backend> core::ops::Mul for So3Mat<B> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, rhs: Self) -> Self {
+        self.compose(rhs)
+    }
+}
