@@ -1,1 +1,320 @@
-fn main() {}
+//! `cargo bench -p lie`: each operation through the generic `lie` code
+//! beside the same formula written by hand on the library's own types, for
+//! the four (backend, scalar) pairs. Benchmark ids are
+//! `<op>/<pair>/<generic|hand>`; `cargo xtask bench-table` turns the
+//! criterion results into the median table with generic/hand ratios.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use lie::{Rotation, So3Mat};
+use std::hint::black_box;
+
+/// Hand-written glam versions of the formulas (same branches and cut-offs
+/// as the generic code, so the ratio measures the abstraction alone).
+macro_rules! glam_hand {
+    ($m:ident, $s:ty, $v:ty, $mat:ty, $cut_exp:expr, $cut_jac:expr, $cut_log:expr) => {
+        mod $m {
+            pub fn exp(phi: $v) -> $mat {
+                let th = phi.length();
+                let (a, b, c) = if th < $cut_exp {
+                    let t2 = th * th;
+                    let b = 0.5 - t2 * (1.0 / 24.0 - t2 / 720.0);
+                    (1.0 - t2 * (1.0 / 6.0 - t2 / 120.0), b, 1.0 - t2 * b)
+                } else {
+                    let (sh, ch) = (0.5 * th).sin_cos();
+                    (
+                        2.0 * sh * ch / th,
+                        2.0 * sh * sh / (th * th),
+                        1.0 - 2.0 * sh * sh,
+                    )
+                };
+                rodrigues(c, a, b, phi)
+            }
+            fn rodrigues(a0: $s, a1: $s, a2: $s, p: $v) -> $mat {
+                let (x, y, z) = (p.x, p.y, p.z);
+                <$mat>::from_cols(
+                    <$v>::new(a0 + a2 * x * x, a2 * x * y + a1 * z, a2 * x * z - a1 * y),
+                    <$v>::new(a2 * x * y - a1 * z, a0 + a2 * y * y, a2 * y * z + a1 * x),
+                    <$v>::new(a2 * x * z + a1 * y, a2 * y * z - a1 * x, a0 + a2 * z * z),
+                )
+            }
+            pub fn left_jacobian(phi: $v) -> $mat {
+                let th = phi.length();
+                let t2 = th * th;
+                let (a, b) = if th < $cut_exp {
+                    (
+                        1.0 - t2 * (1.0 / 6.0 - t2 / 120.0),
+                        0.5 - t2 * (1.0 / 24.0 - t2 / 720.0),
+                    )
+                } else {
+                    let (sh, ch) = (0.5 * th).sin_cos();
+                    (2.0 * sh * ch / th, 2.0 * sh * sh / t2)
+                };
+                let c = if th < $cut_jac {
+                    let k: [$s; 7] = [
+                        1.0 / 6.0,
+                        -1.0 / 120.0,
+                        1.0 / 5040.0,
+                        -1.0 / 362880.0,
+                        1.0 / 39916800.0,
+                        -1.0 / 6227020800.0,
+                        1.0 / 1307674368000.0,
+                    ];
+                    let mut acc = k[6];
+                    for i in (0..6).rev() {
+                        acc = acc * t2 + k[i];
+                    }
+                    acc
+                } else {
+                    (th - th.sin()) / (t2 * th)
+                };
+                rodrigues(a, b, c, phi)
+            }
+            pub fn log(m: $mat) -> $v {
+                let (m00, m11, m22) = (m.x_axis.x, m.y_axis.y, m.z_axis.z);
+                let (m01, m02, m10) = (m.y_axis.x, m.z_axis.x, m.x_axis.y);
+                let (m12, m20, m21) = (m.z_axis.y, m.x_axis.z, m.y_axis.z);
+                let tr = m00 + m11 + m22;
+                let [mut w, mut x, mut y, mut z] = if tr >= m00 && tr >= m11 && tr >= m22 {
+                    let w = 0.5 * (1.0 + tr).sqrt();
+                    let k = 0.25 / w;
+                    [w, (m21 - m12) * k, (m02 - m20) * k, (m10 - m01) * k]
+                } else if m00 >= m11 && m00 >= m22 {
+                    let x = 0.5 * (1.0 + m00 - m11 - m22).sqrt();
+                    let k = 0.25 / x;
+                    [(m21 - m12) * k, x, (m01 + m10) * k, (m02 + m20) * k]
+                } else if m11 >= m22 {
+                    let y = 0.5 * (1.0 - m00 + m11 - m22).sqrt();
+                    let k = 0.25 / y;
+                    [(m02 - m20) * k, (m01 + m10) * k, y, (m12 + m21) * k]
+                } else {
+                    let z = 0.5 * (1.0 - m00 - m11 + m22).sqrt();
+                    let k = 0.25 / z;
+                    [(m10 - m01) * k, (m02 + m20) * k, (m12 + m21) * k, z]
+                };
+                if w < 0.0 {
+                    (w, x, y, z) = (-w, -x, -y, -z);
+                }
+                let n2 = x * x + y * y + z * z;
+                let n = n2.sqrt();
+                let k = if n < $cut_log {
+                    2.0 / w - (2.0 / 3.0) * n2 / (w * w * w)
+                } else {
+                    2.0 * n.atan2(w) / n
+                };
+                <$v>::new(x * k, y * k, z * k)
+            }
+        }
+    };
+}
+glam_hand!(glam32, f32, glam::Vec3, glam::Mat3, 1e-2, 1.5, 1e-4);
+glam_hand!(glam64, f64, glam::DVec3, glam::DMat3, 1e-3, 0.5, 1e-8);
+
+/// Hand-written nalgebra versions of the same formulas.
+macro_rules! na_hand {
+    ($m:ident, $s:ty, $cut_exp:expr, $cut_jac:expr, $cut_log:expr) => {
+        mod $m {
+            use nalgebra::{Matrix3, Vector3};
+            pub fn exp(phi: Vector3<$s>) -> Matrix3<$s> {
+                let th = phi.norm();
+                let (a, b, c) = if th < $cut_exp {
+                    let t2 = th * th;
+                    let b = 0.5 - t2 * (1.0 / 24.0 - t2 / 720.0);
+                    (1.0 - t2 * (1.0 / 6.0 - t2 / 120.0), b, 1.0 - t2 * b)
+                } else {
+                    let (sh, ch) = (0.5 * th).sin_cos();
+                    (
+                        2.0 * sh * ch / th,
+                        2.0 * sh * sh / (th * th),
+                        1.0 - 2.0 * sh * sh,
+                    )
+                };
+                rodrigues(c, a, b, phi)
+            }
+            fn rodrigues(a0: $s, a1: $s, a2: $s, p: Vector3<$s>) -> Matrix3<$s> {
+                let (x, y, z) = (p.x, p.y, p.z);
+                Matrix3::new(
+                    a0 + a2 * x * x,
+                    a2 * x * y - a1 * z,
+                    a2 * x * z + a1 * y,
+                    a2 * x * y + a1 * z,
+                    a0 + a2 * y * y,
+                    a2 * y * z - a1 * x,
+                    a2 * x * z - a1 * y,
+                    a2 * y * z + a1 * x,
+                    a0 + a2 * z * z,
+                )
+            }
+            pub fn left_jacobian(phi: Vector3<$s>) -> Matrix3<$s> {
+                let th = phi.norm();
+                let t2 = th * th;
+                let (a, b) = if th < $cut_exp {
+                    (
+                        1.0 - t2 * (1.0 / 6.0 - t2 / 120.0),
+                        0.5 - t2 * (1.0 / 24.0 - t2 / 720.0),
+                    )
+                } else {
+                    let (sh, ch) = (0.5 * th).sin_cos();
+                    (2.0 * sh * ch / th, 2.0 * sh * sh / t2)
+                };
+                let c = if th < $cut_jac {
+                    let k: [$s; 7] = [
+                        1.0 / 6.0,
+                        -1.0 / 120.0,
+                        1.0 / 5040.0,
+                        -1.0 / 362880.0,
+                        1.0 / 39916800.0,
+                        -1.0 / 6227020800.0,
+                        1.0 / 1307674368000.0,
+                    ];
+                    let mut acc = k[6];
+                    for i in (0..6).rev() {
+                        acc = acc * t2 + k[i];
+                    }
+                    acc
+                } else {
+                    (th - th.sin()) / (t2 * th)
+                };
+                rodrigues(a, b, c, phi)
+            }
+            pub fn log(m: Matrix3<$s>) -> Vector3<$s> {
+                let tr = m[(0, 0)] + m[(1, 1)] + m[(2, 2)];
+                let (m00, m11, m22) = (m[(0, 0)], m[(1, 1)], m[(2, 2)]);
+                let [mut w, mut x, mut y, mut z] = if tr >= m00 && tr >= m11 && tr >= m22 {
+                    let w = 0.5 * (1.0 + tr).sqrt();
+                    let k = 0.25 / w;
+                    [
+                        w,
+                        (m[(2, 1)] - m[(1, 2)]) * k,
+                        (m[(0, 2)] - m[(2, 0)]) * k,
+                        (m[(1, 0)] - m[(0, 1)]) * k,
+                    ]
+                } else if m00 >= m11 && m00 >= m22 {
+                    let x = 0.5 * (1.0 + m00 - m11 - m22).sqrt();
+                    let k = 0.25 / x;
+                    [
+                        (m[(2, 1)] - m[(1, 2)]) * k,
+                        x,
+                        (m[(0, 1)] + m[(1, 0)]) * k,
+                        (m[(0, 2)] + m[(2, 0)]) * k,
+                    ]
+                } else if m11 >= m22 {
+                    let y = 0.5 * (1.0 - m00 + m11 - m22).sqrt();
+                    let k = 0.25 / y;
+                    [
+                        (m[(0, 2)] - m[(2, 0)]) * k,
+                        (m[(0, 1)] + m[(1, 0)]) * k,
+                        y,
+                        (m[(1, 2)] + m[(2, 1)]) * k,
+                    ]
+                } else {
+                    let z = 0.5 * (1.0 - m00 - m11 + m22).sqrt();
+                    let k = 0.25 / z;
+                    [
+                        (m[(1, 0)] - m[(0, 1)]) * k,
+                        (m[(0, 2)] + m[(2, 0)]) * k,
+                        (m[(1, 2)] + m[(2, 1)]) * k,
+                        z,
+                    ]
+                };
+                if w < 0.0 {
+                    (w, x, y, z) = (-w, -x, -y, -z);
+                }
+                let n2 = x * x + y * y + z * z;
+                let n = n2.sqrt();
+                let k = if n < $cut_log {
+                    2.0 / w - (2.0 / 3.0) * n2 / (w * w * w)
+                } else {
+                    2.0 * n.atan2(w) / n
+                };
+                Vector3::new(x * k, y * k, z * k)
+            }
+        }
+    };
+}
+na_hand!(na32, f32, 1e-2, 1.5, 1e-4);
+na_hand!(na64, f64, 1e-3, 0.5, 1e-8);
+
+macro_rules! bench_pair {
+    ($c:expr, $backend:ty, $hand:ident, $v:expr, $w:expr) => {{
+        type B = $backend;
+        let name = <B as lie::Backend>::NAME;
+        let phi = $v;
+        let v = $w;
+        let r = So3Mat::<B>::exp(phi);
+        let r2 = So3Mat::<B>::exp(v);
+        let (m, m2) = (r.matrix(), r2.matrix());
+        let mut g = $c.benchmark_group("exp");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| So3Mat::<B>::exp(black_box(phi)))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| $hand::exp(black_box(phi)))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("log");
+        g.bench_function(format!("{name}/generic"), |b| b.iter(|| black_box(r).log()));
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| $hand::log(black_box(m)))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("compose");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| black_box(r) * black_box(r2))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| black_box(m) * black_box(m2))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("act");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| black_box(r).act(black_box(v)))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| black_box(m) * black_box(v))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("left_jacobian");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| lie::left_jacobian::<B>(black_box(phi)))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| $hand::left_jacobian(black_box(phi)))
+        });
+        g.finish();
+    }};
+}
+
+fn benches(c: &mut Criterion) {
+    // A generic-angle input (θ ≈ 1.1, the closed-form branches) for every op.
+    bench_pair!(
+        c,
+        lie::GlamF32,
+        glam32,
+        glam::Vec3::new(0.3, -0.7, 0.8),
+        glam::Vec3::new(1.0, 2.0, 3.0)
+    );
+    bench_pair!(
+        c,
+        lie::GlamF64,
+        glam64,
+        glam::DVec3::new(0.3, -0.7, 0.8),
+        glam::DVec3::new(1.0, 2.0, 3.0)
+    );
+    bench_pair!(
+        c,
+        lie::NalgebraF32,
+        na32,
+        nalgebra::Vector3::new(0.3f32, -0.7, 0.8),
+        nalgebra::Vector3::new(1.0f32, 2.0, 3.0)
+    );
+    bench_pair!(
+        c,
+        lie::NalgebraF64,
+        na64,
+        nalgebra::Vector3::new(0.3f64, -0.7, 0.8),
+        nalgebra::Vector3::new(1.0f64, 2.0, 3.0)
+    );
+}
+
+criterion_group!(lie_benches, benches);
+criterion_main!(lie_benches);

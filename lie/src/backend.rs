@@ -62,7 +62,12 @@ pub trait Backend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 's
     /// The transpose times a vector, `mᵀ v`, without forming `mᵀ`.
     fn mat3_tr_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3;
     /// Builds a quaternion `w + x i + y j + z k`.
-    fn quat_from_wxyz(w: Self::Scalar, x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self::Quat;
+    fn quat_from_wxyz(
+        w: Self::Scalar,
+        x: Self::Scalar,
+        y: Self::Scalar,
+        z: Self::Scalar,
+    ) -> Self::Quat;
     /// Components `[w, x, y, z]`.
     fn quat_to_wxyz(q: Self::Quat) -> [Self::Scalar; 4];
     /// Hamilton product `a ⊗ b`.
@@ -107,7 +112,11 @@ pub(crate) mod ops {
     #[inline(always)]
     pub fn elems<B: Backend>(m: M3<B>) -> [[S<B>; 3]; 3] {
         let [c0, c1, c2] = B::mat3_cols(m);
-        let (a, b, c) = (B::vec3_to_array(c0), B::vec3_to_array(c1), B::vec3_to_array(c2));
+        let (a, b, c) = (
+            B::vec3_to_array(c0),
+            B::vec3_to_array(c1),
+            B::vec3_to_array(c2),
+        );
         [[a[0], b[0], c[0]], [a[1], b[1], c[1]], [a[2], b[2], c[2]]]
     }
     /// Builds from elements indexed `[row][col]`.

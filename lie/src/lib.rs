@@ -91,8 +91,8 @@ pub use backend::{Backend, M3, S, V3};
 pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
-pub use quat::{So3Quat, log_wxyz, shepperd};
 pub use num_traits;
+pub use quat::{So3Quat, log_wxyz, shepperd};
 pub use real::Real;
 pub use rotation::{Rotation, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian};

@@ -2,9 +2,9 @@
 //! conversions that the matrix representation uses too (its logarithm goes
 //! through [`shepperd`]).
 
+use crate::Real as _;
 use crate::backend::ops;
 use crate::{Backend, M3, Rotation, S, V3, series};
-use crate::Real as _;
 use num_traits::{Float, One, Zero};
 
 /// Quaternion `[w, x, y, z]` (not normalised) of a rotation matrix by
@@ -22,19 +22,39 @@ pub fn shepperd<B: Backend>(m: M3<B>) -> [S<B>; 4] {
     if tr >= m00 && tr >= m11 && tr >= m22 {
         let w = half * (one + tr).sqrt();
         let k = quarter / w;
-        [w, (e[2][1] - e[1][2]) * k, (e[0][2] - e[2][0]) * k, (e[1][0] - e[0][1]) * k]
+        [
+            w,
+            (e[2][1] - e[1][2]) * k,
+            (e[0][2] - e[2][0]) * k,
+            (e[1][0] - e[0][1]) * k,
+        ]
     } else if m00 >= m11 && m00 >= m22 {
         let x = half * (one + m00 - m11 - m22).sqrt();
         let k = quarter / x;
-        [(e[2][1] - e[1][2]) * k, x, (e[0][1] + e[1][0]) * k, (e[0][2] + e[2][0]) * k]
+        [
+            (e[2][1] - e[1][2]) * k,
+            x,
+            (e[0][1] + e[1][0]) * k,
+            (e[0][2] + e[2][0]) * k,
+        ]
     } else if m11 >= m22 {
         let y = half * (one - m00 + m11 - m22).sqrt();
         let k = quarter / y;
-        [(e[0][2] - e[2][0]) * k, (e[0][1] + e[1][0]) * k, y, (e[1][2] + e[2][1]) * k]
+        [
+            (e[0][2] - e[2][0]) * k,
+            (e[0][1] + e[1][0]) * k,
+            y,
+            (e[1][2] + e[2][1]) * k,
+        ]
     } else {
         let z = half * (one - m00 - m11 + m22).sqrt();
         let k = quarter / z;
-        [(e[1][0] - e[0][1]) * k, (e[0][2] + e[2][0]) * k, (e[1][2] + e[2][1]) * k, z]
+        [
+            (e[1][0] - e[0][1]) * k,
+            (e[0][2] + e[2][0]) * k,
+            (e[1][2] + e[2][1]) * k,
+            z,
+        ]
     }
 }
 

@@ -5,9 +5,9 @@
 //! 6×6 matrices are plain row-major arrays so the crate needs no 6-D type
 //! from either backend.
 
+use crate::Real as _;
 use crate::backend::ops;
 use crate::{Backend, M3, Rotation, S, So3Mat, V3, series, so3};
-use crate::Real as _;
 use num_traits::{One, Zero};
 
 /// A 6×6 matrix, row-major, indices `[row][col]`, twist order `(ρ, φ)`.
@@ -39,7 +39,10 @@ impl<B: Backend> Twist<B> {
     /// From `[ρ1, ρ2, ρ3, φ1, φ2, φ3]`.
     #[inline]
     pub fn from_array(a: [S<B>; 6]) -> Self {
-        Self { rho: B::vec3(a[0], a[1], a[2]), phi: B::vec3(a[3], a[4], a[5]) }
+        Self {
+            rho: B::vec3(a[0], a[1], a[2]),
+            phi: B::vec3(a[3], a[4], a[5]),
+        }
     }
     /// `ξ^`, the 4×4 matrix in se(3).
     pub fn hat(self) -> Matrix4<S<B>> {
@@ -60,7 +63,10 @@ impl<B: Backend> Twist<B> {
             [m[1][0], m[1][1], m[1][2]],
             [m[2][0], m[2][1], m[2][2]],
         ]);
-        Self { rho: B::vec3(m[0][3], m[1][3], m[2][3]), phi: so3::vee::<B>(blk) }
+        Self {
+            rho: B::vec3(m[0][3], m[1][3], m[2][3]),
+            phi: so3::vee::<B>(blk),
+        }
     }
 }
 
@@ -95,7 +101,11 @@ fn upper_block<B: Backend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
 ///  + F(φ^ρ^φ^² + φ^²ρ^φ^)`, coefficients in [`series`](crate::series).
 pub fn q_block<B: Backend>(rho: V3<B>, phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
-    let (c, e, f) = (series::c_coeff(theta), series::e_coeff(theta), series::f_coeff(theta));
+    let (c, e, f) = (
+        series::c_coeff(theta),
+        series::e_coeff(theta),
+        series::f_coeff(theta),
+    );
     let p = so3::hat::<B>(phi);
     let r = so3::hat::<B>(rho);
     let pr = p * r;
@@ -112,12 +122,18 @@ impl<B: Backend, R: Rotation<B>> Se3<B, R> {
     /// Builds a motion from its parts.
     #[inline]
     pub fn new(rotation: R, translation: V3<B>) -> Self {
-        Self { rotation, translation }
+        Self {
+            rotation,
+            translation,
+        }
     }
     /// The identity motion.
     #[inline]
     pub fn identity() -> Self {
-        Self { rotation: R::identity(), translation: ops::zero::<B>() }
+        Self {
+            rotation: R::identity(),
+            translation: ops::zero::<B>(),
+        }
     }
     /// `self ∘ rhs`: `(R1 R2, R1 t2 + t1)`.
     #[inline]
@@ -153,7 +169,10 @@ impl<B: Backend, R: Rotation<B>> Se3<B, R> {
     #[inline]
     pub fn log(self) -> Twist<B> {
         let phi = self.rotation.log();
-        Twist { rho: so3::left_jacobian_inv::<B>(phi) * self.translation, phi }
+        Twist {
+            rho: so3::left_jacobian_inv::<B>(phi) * self.translation,
+            phi,
+        }
     }
     /// The 6×6 adjoint `[[R, t^ R], [0, R]]`: `exp((Ad ξ)^) = X exp(ξ^) X⁻¹`.
     pub fn adjoint(self) -> Matrix6<S<B>> {
@@ -185,5 +204,8 @@ impl<B: Backend, R: Rotation<B>> core::ops::Mul for Se3<B, R> {
 /// The SE(3) left Jacobian `[[J_l(φ), Q(ρ, φ)], [0, J_l(φ)]]`:
 /// `exp((ξ + δ)^) ≈ exp((J δ)^) exp(ξ^)`.
 pub fn se3_left_jacobian<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
-    upper_block::<B>(so3::left_jacobian::<B>(xi.phi), q_block::<B>(xi.rho, xi.phi))
+    upper_block::<B>(
+        so3::left_jacobian::<B>(xi.phi),
+        q_block::<B>(xi.rho, xi.phi),
+    )
 }

@@ -51,7 +51,10 @@ pub fn quat_exp_coeffs<S: Real>(theta: S) -> (S, S) {
     if theta < S::CUT_EXP {
         let t2 = theta * theta;
         let k = l::<S>(0.5) - t2 * (l::<S>(1.0 / 48.0) - t2 * l::<S>(1.0 / 3840.0));
-        (S::one() - t2 * (l::<S>(1.0 / 8.0) - t2 * l::<S>(1.0 / 384.0)), k)
+        (
+            S::one() - t2 * (l::<S>(1.0 / 8.0) - t2 * l::<S>(1.0 / 384.0)),
+            k,
+        )
     } else {
         let (sh, ch) = (theta * l::<S>(0.5)).sin_cos();
         (ch, sh / theta)
@@ -63,7 +66,18 @@ pub fn quat_exp_coeffs<S: Real>(theta: S) -> (S, S) {
 pub fn c_coeff<S: Real>(theta: S) -> S {
     if theta < S::CUT_JAC {
         let t2 = theta * theta;
-        horner(t2, &[1.0 / 6.0, -1.0 / 120.0, 1.0 / 5040.0, -1.0 / 362880.0, 1.0 / 39916800.0, -1.0 / 6227020800.0, 1.0 / 1307674368000.0])
+        horner(
+            t2,
+            &[
+                1.0 / 6.0,
+                -1.0 / 120.0,
+                1.0 / 5040.0,
+                -1.0 / 362880.0,
+                1.0 / 39916800.0,
+                -1.0 / 6227020800.0,
+                1.0 / 1307674368000.0,
+            ],
+        )
     } else {
         (theta - theta.sin()) / (theta * theta * theta)
     }
@@ -75,7 +89,18 @@ pub fn c_coeff<S: Real>(theta: S) -> S {
 pub fn d_coeff<S: Real>(theta: S) -> S {
     if theta < S::CUT_JAC {
         let t2 = theta * theta;
-        horner(t2, &[1.0 / 12.0, 1.0 / 720.0, 1.0 / 30240.0, 1.0 / 1209600.0, 1.0 / 47900160.0, 691.0 / 1307674368000.0, 1.0 / 74724249600.0])
+        horner(
+            t2,
+            &[
+                1.0 / 12.0,
+                1.0 / 720.0,
+                1.0 / 30240.0,
+                1.0 / 1209600.0,
+                1.0 / 47900160.0,
+                691.0 / 1307674368000.0,
+                1.0 / 74724249600.0,
+            ],
+        )
     } else {
         let (sh, ch) = (theta * l::<S>(0.5)).sin_cos();
         S::one() / (theta * theta) - ch / (l::<S>(2.0) * theta * sh)
@@ -87,7 +112,18 @@ pub fn d_coeff<S: Real>(theta: S) -> S {
 pub fn e_coeff<S: Real>(theta: S) -> S {
     if theta < S::CUT_JAC_SE3 {
         let t2 = theta * theta;
-        horner(t2, &[1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0, 1.0 / 479001600.0, -1.0 / 87178291200.0, 1.0 / 20922789888000.0])
+        horner(
+            t2,
+            &[
+                1.0 / 24.0,
+                -1.0 / 720.0,
+                1.0 / 40320.0,
+                -1.0 / 3628800.0,
+                1.0 / 479001600.0,
+                -1.0 / 87178291200.0,
+                1.0 / 20922789888000.0,
+            ],
+        )
     } else {
         let t2 = theta * theta;
         (t2 + l::<S>(2.0) * theta.cos() - l::<S>(2.0)) / (l::<S>(2.0) * t2 * t2)
@@ -99,7 +135,18 @@ pub fn e_coeff<S: Real>(theta: S) -> S {
 pub fn f_coeff<S: Real>(theta: S) -> S {
     if theta < S::CUT_JAC_SE3 {
         let t2 = theta * theta;
-        horner(t2, &[1.0 / 120.0, -1.0 / 2520.0, 1.0 / 120960.0, -1.0 / 9979200.0, 1.0 / 1245404160.0, -1.0 / 217945728000.0, 1.0 / 50812489728000.0])
+        horner(
+            t2,
+            &[
+                1.0 / 120.0,
+                -1.0 / 2520.0,
+                1.0 / 120960.0,
+                -1.0 / 9979200.0,
+                1.0 / 1245404160.0,
+                -1.0 / 217945728000.0,
+                1.0 / 50812489728000.0,
+            ],
+        )
     } else {
         let (s, c) = theta.sin_cos();
         let t2 = theta * theta;

@@ -6,9 +6,9 @@
 //! and the right one `exp(φ + δ) ≈ exp(φ) exp(J_r(φ) δ)`, with
 //! `J_r(φ) = J_l(−φ)`.
 
+use crate::Real as _;
 use crate::backend::ops;
 use crate::{Backend, LieError, M3, Rotation, S, V3, quat, series};
-use crate::Real as _;
 use num_traits::{Float, One, Zero};
 
 /// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
@@ -26,7 +26,11 @@ pub fn hat<B: Backend>(x: V3<B>) -> M3<B> {
 pub fn vee<B: Backend>(m: M3<B>) -> V3<B> {
     let e = ops::elems::<B>(m);
     let h = S::<B>::lit(0.5);
-    B::vec3(h * (e[2][1] - e[1][2]), h * (e[0][2] - e[2][0]), h * (e[1][0] - e[0][1]))
+    B::vec3(
+        h * (e[2][1] - e[1][2]),
+        h * (e[0][2] - e[2][0]),
+        h * (e[1][0] - e[0][1]),
+    )
 }
 
 /// `a0 I + a1 φ^ + a2 φ φᵀ`, built element-wise: every SO(3) series
@@ -110,7 +114,9 @@ impl<B: Backend> So3Mat<B> {
     /// orthogonal matrix is a reflection, not a rotation.
     pub fn project(m: M3<B>) -> Result<Self, LieError> {
         if !ops::is_finite_mat::<B>(m) {
-            return Err(LieError::NonFinite { what: "matrix to project onto SO(3)" });
+            return Err(LieError::NonFinite {
+                what: "matrix to project onto SO(3)",
+            });
         }
         let half = S::<B>::lit(0.5);
         let tol = S::<B>::epsilon() * S::<B>::lit(8.0);
@@ -119,8 +125,11 @@ impl<B: Backend> So3Mat<B> {
             let [c0, c1, c2] = B::mat3_cols(x);
             let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
             let det = B::dot(c0, B::cross(c1, c2));
-            if !(det > S::<B>::zero()) {
-                return Err(LieError::NotProjectable { det: det.to_f64_lossless() });
+            // NaN-safe: a NaN determinant fails here too.
+            if det.partial_cmp(&S::<B>::zero()) != Some(core::cmp::Ordering::Greater) {
+                return Err(LieError::NotProjectable {
+                    det: det.to_f64_lossless(),
+                });
             }
             let inv_t = cof * (S::<B>::one() / det);
             let gamma = (ops::frob_norm::<B>(inv_t) / ops::frob_norm::<B>(x)).sqrt();

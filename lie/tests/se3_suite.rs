@@ -16,17 +16,29 @@ fn tw64<B: Backend>(t: Twist<B>) -> A6 {
     t.to_array().map(|x| x.to_f64_lossless())
 }
 fn rand_twist(rng: &mut Rng, max_angle: f64) -> A6 {
-    let (r, p) = (scale(rng.unit(), rng.range(0.0, 3.0)), rng.rotvec(max_angle));
+    let (r, p) = (
+        scale(rng.unit(), rng.range(0.0, 3.0)),
+        rng.rotvec(max_angle),
+    );
     [r[0], r[1], r[2], p[0], p[1], p[2]]
 }
 fn d6(a: A6, b: A6) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 fn h4<B: Backend, R: Rotation<B>>(x: Se3<B, R>) -> [[f64; 4]; 4] {
     x.to_homogeneous().map(|r| r.map(|v| v.to_f64_lossless()))
 }
 fn d44(a: [[f64; 4]; 4], b: [[f64; 4]; 4]) -> f64 {
-    a.iter().flatten().zip(b.iter().flatten()).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 fn tag<B: Backend, R: Rotation<B>>() -> String {
     format!("[{} {}]", B::NAME, R::REPR)
@@ -46,7 +58,10 @@ pub fn se3_group_and_exp_log<B: Backend, R: Rotation<B>>() {
         w_ax = w_ax
             .max(d44(h4((x * y) * z), h4(x * (y * z))))
             .max(d44(h4(x * x.inverse()), h4(Se3::<B, R>::identity())))
-            .max(dist(v64::<B>((x * y).act(vb::<B>(p))), v64::<B>(x.act(y.act(vb::<B>(p))))));
+            .max(dist(
+                v64::<B>((x * y).act(vb::<B>(p))),
+                v64::<B>(x.act(y.act(vb::<B>(p)))),
+            ));
         // log∘exp, relative to the twist's size (the translation is up to 3).
         w_rt = w_rt.max(d6(tw64::<B>(x.log()), xi) / (1.0 + d6(xi, [0.0; 6])));
         // exp against the series exponential of the 4×4 ξ^.
@@ -55,8 +70,14 @@ pub fn se3_group_and_exp_log<B: Backend, R: Rotation<B>>() {
         // the V matrix: translation of exp(ξ^) = J_l(φ) ρ
         let jl = m64::<B>(lie::left_jacobian::<B>(vb::<B>([xi[3], xi[4], xi[5]])));
         let t_ref = expm(hat);
-        let jr = mmul(jl, [[xi[0], 0.0, 0.0], [xi[1], 0.0, 0.0], [xi[2], 0.0, 0.0]]);
-        w_v = w_v.max(dist([jr[0][0], jr[1][0], jr[2][0]], [t_ref[0][3], t_ref[1][3], t_ref[2][3]]));
+        let jr = mmul(
+            jl,
+            [[xi[0], 0.0, 0.0], [xi[1], 0.0, 0.0], [xi[2], 0.0, 0.0]],
+        );
+        w_v = w_v.max(dist(
+            [jr[0][0], jr[1][0], jr[2][0]],
+            [t_ref[0][3], t_ref[1][3], t_ref[2][3]],
+        ));
         // hat/vee round trip
         assert_eq!(tw64::<B>(Twist::<B>::vee(tw::<B>(xi).hat())), xi);
     }
@@ -65,7 +86,10 @@ pub fn se3_group_and_exp_log<B: Backend, R: Rotation<B>>() {
         tag::<B, R>()
     );
     // Translations up to ~6 after composing: 64 ε absolute.
-    assert!(w_ax < 64.0 * e && w_series < 64.0 * e && w_v < 64.0 * e, "{w_ax:e} {w_series:e} {w_v:e}");
+    assert!(
+        w_ax < 64.0 * e && w_series < 64.0 * e && w_v < 64.0 * e,
+        "{w_ax:e} {w_series:e} {w_v:e}"
+    );
     // The round-trip figures for SO(3) (1e-12 in f64, 2e-6 in f32),
     // relative to the twist's size since J_l⁻¹ scales errors by |ρ|.
     let tol_rt = if is_f64::<B>() { 1e-12 } else { 2e-6 };
@@ -74,7 +98,11 @@ pub fn se3_group_and_exp_log<B: Backend, R: Rotation<B>>() {
 
 pub fn se3_adjoint_and_jacobian<B: Backend, R: Rotation<B>>() {
     let e = eps::<B>();
-    let (h, tol) = if is_f64::<B>() { (1e-5, 1e-8) } else { (1e-2, 3e-3) };
+    let (h, tol) = if is_f64::<B>() {
+        (1e-5, 1e-8)
+    } else {
+        (1e-2, 3e-3)
+    };
     let mut rng = Rng::new(22);
     let (mut w_ad, mut w_j) = (0.0f64, 0.0f64);
     let mut cases: Vec<A6> = (0..60).map(|_| rand_twist(&mut rng, 2.5)).collect();
@@ -109,7 +137,10 @@ pub fn se3_adjoint_and_jacobian<B: Backend, R: Rotation<B>>() {
             }
         }
     }
-    println!("{} SE(3): adjoint by conjugation {w_ad:.1e}, left Jacobian vs central FD {w_j:.1e}", tag::<B, R>());
+    println!(
+        "{} SE(3): adjoint by conjugation {w_ad:.1e}, left Jacobian vs central FD {w_j:.1e}",
+        tag::<B, R>()
+    );
     // Translations up to ~10 after conjugation, a few roundings each.
     assert!(w_ad < 64.0 * e, "{w_ad:e}");
     assert!(w_j < tol, "{w_j:e}");
@@ -150,7 +181,10 @@ fn f32_against_f64<B32: Backend, B64: Backend, R32: Rotation<B32>, R64: Rotation
         let (r32, r64) = (R32::exp(p32), R64::exp(p64));
         w[0] = w[0].max(mdist(m64::<B32>(r32.matrix()), m64::<B64>(r64.matrix())));
         w[1] = w[1].max(dist(v64::<B32>(r32.log()), v64::<B64>(r64.log())));
-        w[2] = w[2].max(mdist(m64::<B32>(lie::left_jacobian::<B32>(p32)), m64::<B64>(lie::left_jacobian::<B64>(p64))));
+        w[2] = w[2].max(mdist(
+            m64::<B32>(lie::left_jacobian::<B32>(p32)),
+            m64::<B64>(lie::left_jacobian::<B64>(p64)),
+        ));
         w[3] = w[3].max(mdist(
             m64::<B32>(lie::right_jacobian_inv::<B32>(p32)),
             m64::<B64>(lie::right_jacobian_inv::<B64>(p64)),
@@ -165,7 +199,16 @@ fn f32_against_f64<B32: Backend, B64: Backend, R32: Rotation<B32>, R64: Rotation
     }
     println!(
         "[{} vs {} {}] worst f32−f64: exp {:.1e}, log {:.1e}, J_l {:.1e}, J_r⁻¹ {:.1e}, SE(3) Q {:.1e}, Ψ {:.1e}, e_R {:.1e}",
-        B32::NAME, B64::NAME, R32::REPR, w[0], w[1], w[2], w[3], w[4], w[5], w[6]
+        B32::NAME,
+        B64::NAME,
+        R32::REPR,
+        w[0],
+        w[1],
+        w[2],
+        w[3],
+        w[4],
+        w[5],
+        w[6]
     );
     // f32 rounding (6e-8) through a handful of operations: ~16 ε of f32;
     // the log gets the 2e-6 rad.

@@ -41,15 +41,27 @@ pub fn group_axioms<B: Backend, R: Rotation<B>>() {
         let v = rng.unit();
         let vb_ = vb::<B>(v);
         // Associativity, identity, inverse, action of a product, isometry.
-        worst = worst.max(mdist(m64::<B>(((a * b) * c).matrix()), m64::<B>((a * (b * c)).matrix())));
-        worst = worst.max(mdist(m64::<B>((a * R::identity()).matrix()), m64::<B>(a.matrix())));
+        worst = worst.max(mdist(
+            m64::<B>(((a * b) * c).matrix()),
+            m64::<B>((a * (b * c)).matrix()),
+        ));
+        worst = worst.max(mdist(
+            m64::<B>((a * R::identity()).matrix()),
+            m64::<B>(a.matrix()),
+        ));
         worst = worst.max(mdist(m64::<B>((a * a.inverse()).matrix()), I3));
-        worst = worst.max(dist(v64::<B>((a * b).act(vb_)), v64::<B>(a.act(b.act(vb_)))));
+        worst = worst.max(dist(
+            v64::<B>((a * b).act(vb_)),
+            v64::<B>(a.act(b.act(vb_))),
+        ));
         worst = worst.max(dist(v64::<B>(a.inverse_act(a.act(vb_))), v)); // v is unit
         worst = worst.max((norm(v64::<B>(a.act(vb_))) - 1.0).abs());
         worst = worst.max(a.orthogonality_error().to_f64_lossless());
     }
-    println!("{} group axioms: worst deviation {worst:.2e}", tag::<B, R>());
+    println!(
+        "{} group axioms: worst deviation {worst:.2e}",
+        tag::<B, R>()
+    );
     // A handful of products each adding ~1 ulp per element on 3×3 sums:
     // 30 ε bounds it with margin.
     assert!(worst < 30.0 * e, "{worst:e}");
@@ -61,7 +73,12 @@ pub fn hat_vee<B: Backend, R: Rotation<B>>() {
     for _ in 0..100 {
         let (x, y) = (scale(rng.unit(), 2.0), rng.unit());
         let hx = lie::hat::<B>(vb::<B>(x));
-        assert!(dist(v64::<B>(hx * vb::<B>(y)), cross(rounded::<B>(x), rounded::<B>(y))) < 8.0 * e);
+        assert!(
+            dist(
+                v64::<B>(hx * vb::<B>(y)),
+                cross(rounded::<B>(x), rounded::<B>(y))
+            ) < 8.0 * e
+        );
         assert_eq!(v64::<B>(lie::vee::<B>(hx)), rounded::<B>(x));
     }
 }
@@ -96,16 +113,26 @@ pub fn exp_log_roundtrip<B: Backend, R: Rotation<B>>() {
     let mut worst_el = 0.0f64;
     for _ in 0..1000 {
         let r = exp_b::<B, R>(rng.rotvec(PI));
-        worst_el = worst_el.max(mdist(m64::<B>(R::exp(r.log()).matrix()), m64::<B>(r.matrix())));
+        worst_el = worst_el.max(mdist(
+            m64::<B>(R::exp(r.log()).matrix()),
+            m64::<B>(r.matrix()),
+        ));
     }
-    println!("{} exp∘log worst error on random rotations: {worst_el:.2e}", tag::<B, R>());
+    println!(
+        "{} exp∘log worst error on random rotations: {worst_el:.2e}",
+        tag::<B, R>()
+    );
     assert!(worst_el <= tol, "{worst_el:e}");
 }
 
 /// log at π − 1e-9 and at exactly π, about several axes: the angle must be
 /// π and exp∘log must give back the rotation (the sign of the axis is free).
 pub fn log_at_exactly_pi<B: Backend, R: Rotation<B>>() {
-    let (tol_angle, tol_rot) = if is_f64::<B>() { (1e-12, 1e-12) } else { (1e-6, 1e-6) };
+    let (tol_angle, tol_rot) = if is_f64::<B>() {
+        (1e-12, 1e-12)
+    } else {
+        (1e-6, 1e-6)
+    };
     let mut worst_angle = 0.0f64;
     let mut worst_rot = 0.0f64;
     let mut rng = Rng::new(4);
@@ -150,7 +177,10 @@ pub fn exp_matches_series<B: Backend, R: Rotation<B>>() {
         let reference = expm(hat64(phi));
         worst = worst.max(mdist(m64::<B>(exp_b::<B, R>(phi).matrix()), reference));
     }
-    println!("{} exp vs series matrix exponential: worst {worst:.2e}", tag::<B, R>());
+    println!(
+        "{} exp vs series matrix exponential: worst {worst:.2e}",
+        tag::<B, R>()
+    );
     // sin/cos are within 1 ulp and each element sums three terms (~4 ε);
     // the f64 reference carries ~6 ε of its own (measured 1.3e-15 against
     // the f64 backends). 16 ε covers both.
@@ -182,7 +212,8 @@ pub fn jacobians_match_finite_differences<B: Backend, R: Rotation<B>>() {
             cases.push(scale(axis, th));
         }
     }
-    let (mut w_l, mut w_r, mut w_li, mut w_ri, mut w_inv) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut w_l, mut w_r, mut w_li, mut w_ri, mut w_inv) =
+        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for phi in cases {
         let phi = rounded::<B>(phi);
         let pb: V3<B> = vb::<B>(phi);
@@ -197,18 +228,38 @@ pub fn jacobians_match_finite_differences<B: Backend, R: Rotation<B>>() {
             let (pp, pm) = (vb::<B>(add(phi, d)), vb::<B>(sub(phi, d)));
             let (dp, dm) = (vb::<B>(d), vb::<B>(scale(d, -1.0)));
             // exp(φ + δ) ≈ exp(J_l δ) exp(φ)
-            let fd_l = scale(sub(log64::<B, R>(R::exp(pp) * r.inverse()), log64::<B, R>(R::exp(pm) * r.inverse())), 0.5 / h);
+            let fd_l = scale(
+                sub(
+                    log64::<B, R>(R::exp(pp) * r.inverse()),
+                    log64::<B, R>(R::exp(pm) * r.inverse()),
+                ),
+                0.5 / h,
+            );
             // exp(φ + δ) ≈ exp(φ) exp(J_r δ)
-            let fd_r = scale(sub(log64::<B, R>(r.inverse() * R::exp(pp)), log64::<B, R>(r.inverse() * R::exp(pm))), 0.5 / h);
+            let fd_r = scale(
+                sub(
+                    log64::<B, R>(r.inverse() * R::exp(pp)),
+                    log64::<B, R>(r.inverse() * R::exp(pm)),
+                ),
+                0.5 / h,
+            );
             // log(exp(δ) R) ≈ φ + J_l⁻¹ δ,  log(R exp(δ)) ≈ φ + J_r⁻¹ δ
-            let fd_li = scale(sub(log64::<B, R>(R::exp(dp) * r), log64::<B, R>(R::exp(dm) * r)), 0.5 / h);
-            let fd_ri = scale(sub(log64::<B, R>(r * R::exp(dp)), log64::<B, R>(r * R::exp(dm))), 0.5 / h);
+            let fd_li = scale(
+                sub(log64::<B, R>(R::exp(dp) * r), log64::<B, R>(R::exp(dm) * r)),
+                0.5 / h,
+            );
+            let fd_ri = scale(
+                sub(log64::<B, R>(r * R::exp(dp)), log64::<B, R>(r * R::exp(dm))),
+                0.5 / h,
+            );
             w_l = w_l.max(col_dist(jl, i, fd_l));
             w_r = w_r.max(col_dist(jr, i, fd_r));
             w_li = w_li.max(col_dist(jli, i, fd_li));
             w_ri = w_ri.max(col_dist(jri, i, fd_ri));
         }
-        w_inv = w_inv.max(mdist(mmul(jl, jli), I3)).max(mdist(mmul(jr, jri), I3));
+        w_inv = w_inv
+            .max(mdist(mmul(jl, jli), I3))
+            .max(mdist(mmul(jr, jri), I3));
     }
     println!(
         "{} Jacobians vs central FD: J_l {w_l:.1e}, J_r {w_r:.1e}, J_l⁻¹ {w_li:.1e}, J_r⁻¹ {w_ri:.1e}; ‖J J⁻¹ − I‖ {w_inv:.1e}",
@@ -231,7 +282,8 @@ pub fn attitude_error_proposition_1<B: Backend, R: Rotation<B>>() {
     let (h, tol_fd) = (fd_step::<B>(), fd_tol::<B>());
     let mut rng = Rng::new(7);
     let mut worst_identity = 0.0f64;
-    let (mut worst_lb, mut worst_deriv, mut worst_dot, mut worst_crit) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut worst_lb, mut worst_deriv, mut worst_dot, mut worst_crit) =
+        (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for _ in 0..300 {
         let r = exp_b::<B, R>(rng.rotvec(PI));
         let rd = exp_b::<B, R>(rng.rotvec(PI));
@@ -246,16 +298,24 @@ pub fn attitude_error_proposition_1<B: Backend, R: Rotation<B>>() {
         // (ii): d/dε Ψ(R exp(ε η), R_d) = e_R · η.
         let eta = rng.unit();
         let fd = (r * exp_b::<B, R>(scale(eta, h))).psi(rd).to_f64_lossless()
-            - (r * exp_b::<B, R>(scale(eta, -h))).psi(rd).to_f64_lossless();
+            - (r * exp_b::<B, R>(scale(eta, -h)))
+                .psi(rd)
+                .to_f64_lossless();
         worst_deriv = worst_deriv.max((fd / (2.0 * h) - dot(er, eta)).abs());
         // (vi): along R(t) = R exp(tΩ), R_d(t) = R_d exp(tΩ_d).
         let (w, wd) = (scale(rng.unit(), 2.0), scale(rng.unit(), 2.0));
         let eo = v64::<B>(lie::e_omega::<B, R>(r, vb::<B>(w), rd, vb::<B>(wd)));
-        let at = |t: f64| (r * exp_b::<B, R>(scale(w, t))).psi(rd * exp_b::<B, R>(scale(wd, t))).to_f64_lossless();
+        let at = |t: f64| {
+            (r * exp_b::<B, R>(scale(w, t)))
+                .psi(rd * exp_b::<B, R>(scale(wd, t)))
+                .to_f64_lossless()
+        };
         worst_dot = worst_dot.max(((at(h) - at(-h)) / (2.0 * h) - dot(er, eo)).abs());
         // (iii): e_R = 0 and Ψ = 2 at R_d exp(π s^).
         let crit = rd * exp_b::<B, R>(scale(rng.unit(), PI));
-        worst_crit = worst_crit.max(norm(v64::<B>(crit.e_r(rd)))).max((crit.psi(rd).to_f64_lossless() - 2.0).abs());
+        worst_crit = worst_crit
+            .max(norm(v64::<B>(crit.e_r(rd))))
+            .max((crit.psi(rd).to_f64_lossless() - 2.0).abs());
     }
     println!(
         "{} Prop. 1: max(½‖e_R‖² − Ψ) = {worst_lb:.1e}, |‖e_R‖² − Ψ(2−Ψ)| ≤ {worst_identity:.1e}, \
@@ -265,7 +325,10 @@ pub fn attitude_error_proposition_1<B: Backend, R: Rotation<B>>() {
     // Rounding of a 3×3 product and a trace: 16 ε.
     assert!(worst_lb <= 16.0 * e, "{worst_lb:e}");
     assert!(worst_identity <= 16.0 * e, "{worst_identity:e}");
-    assert!(worst_deriv < tol_fd && worst_dot < tol_fd * 10.0, "{worst_deriv:e} {worst_dot:e}");
+    assert!(
+        worst_deriv < tol_fd && worst_dot < tol_fd * 10.0,
+        "{worst_deriv:e} {worst_dot:e}"
+    );
     // sin(π) in floating point is ~ε; composing adds a few more.
     assert!(worst_crit <= 32.0 * e, "{worst_crit:e}");
 }
@@ -294,8 +357,18 @@ pub fn slerp_is_geodesic<B: Backend, R: Rotation<B>>() {
         if total > PI - 1e-3 {
             continue; // the shorter arc is ambiguous at π
         }
-        assert!(mdist(m64::<B>(a.slerp(b, s::<B>(0.0)).matrix()), m64::<B>(a.matrix())) < tol);
-        assert!(mdist(m64::<B>(a.slerp(b, s::<B>(1.0)).matrix()), m64::<B>(b.matrix())) < tol);
+        assert!(
+            mdist(
+                m64::<B>(a.slerp(b, s::<B>(0.0)).matrix()),
+                m64::<B>(a.matrix())
+            ) < tol
+        );
+        assert!(
+            mdist(
+                m64::<B>(a.slerp(b, s::<B>(1.0)).matrix()),
+                m64::<B>(b.matrix())
+            ) < tol
+        );
         for t in [0.25, 0.5, 0.8] {
             let m = a.slerp(b, s::<B>(t));
             let from_a = (a.inverse() * m).angle().to_f64_lossless();
@@ -313,9 +386,20 @@ pub fn representations_agree<B: Backend, R: Rotation<B>>() {
     for _ in 0..300 {
         let (p1, p2) = (rounded::<B>(rng.rotvec(PI)), rounded::<B>(rng.rotvec(PI)));
         let (r, rd) = (exp_b::<B, R>(p1), exp_b::<B, R>(p2));
-        let (m, md) = (lie::So3Mat::<B>::from_matrix(r.matrix()), lie::So3Mat::<B>::from_matrix(rd.matrix()));
-        let (q, qd) = (lie::So3Quat::<B>::from_matrix(r.matrix()), lie::So3Quat::<B>::from_matrix(rd.matrix()));
-        assert!(mdist(m64::<B>(R::from_quaternion(r.quaternion()).matrix()), m64::<B>(r.matrix())) < 16.0 * e);
+        let (m, md) = (
+            lie::So3Mat::<B>::from_matrix(r.matrix()),
+            lie::So3Mat::<B>::from_matrix(rd.matrix()),
+        );
+        let (q, qd) = (
+            lie::So3Quat::<B>::from_matrix(r.matrix()),
+            lie::So3Quat::<B>::from_matrix(rd.matrix()),
+        );
+        assert!(
+            mdist(
+                m64::<B>(R::from_quaternion(r.quaternion()).matrix()),
+                m64::<B>(r.matrix())
+            ) < 16.0 * e
+        );
         assert!((m.psi(md).to_f64_lossless() - q.psi(qd).to_f64_lossless()).abs() < 16.0 * e);
         assert!(dist(v64::<B>(m.e_r(md)), v64::<B>(q.e_r(qd))) < 16.0 * e);
     }
@@ -346,11 +430,20 @@ pub fn projection_onto_group<B: Backend, R: Rotation<B>>() {
         "{} projection: ‖RᵀR − I‖ ≤ {worst_orth:.1e}, distance to SVD polar factor ≤ {worst_polar:.1e}",
         tag::<B, R>()
     );
-    assert!(worst_orth < 16.0 * e && worst_polar < 16.0 * e, "{worst_orth:e} {worst_polar:e}");
+    assert!(
+        worst_orth < 16.0 * e && worst_polar < 16.0 * e,
+        "{worst_orth:e} {worst_polar:e}"
+    );
     let reflection = mb::<B>([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]);
-    assert!(matches!(lie::So3Mat::<B>::project(reflection), Err(lie::LieError::NotProjectable { .. })));
+    assert!(matches!(
+        lie::So3Mat::<B>::project(reflection),
+        Err(lie::LieError::NotProjectable { .. })
+    ));
     let nan = mb::<B>([[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
-    assert!(matches!(lie::So3Mat::<B>::project(nan), Err(lie::LieError::NonFinite { .. })));
+    assert!(matches!(
+        lie::So3Mat::<B>::project(nan),
+        Err(lie::LieError::NonFinite { .. })
+    ));
 }
 
 /// Unit-norm drift over 10⁵ products, and its repair by `normalized`.
@@ -364,7 +457,10 @@ pub fn drift_and_renormalisation<B: Backend, R: Rotation<B>>() {
     }
     let drift = r.orthogonality_error().to_f64_lossless();
     let fixed = r.normalized().orthogonality_error().to_f64_lossless();
-    println!("{} ‖RᵀR − I‖ after 1e5 products: {drift:.1e}; after normalized(): {fixed:.1e}", tag::<B, R>());
+    println!(
+        "{} ‖RᵀR − I‖ after 1e5 products: {drift:.1e}; after normalized(): {fixed:.1e}",
+        tag::<B, R>()
+    );
     // What remains after normalising is the rounding of forming R from q
     // (or of the polar iteration) and of RᵀR: a few ε in each of the nine
     // entries, 16 ε in the Frobenius norm.

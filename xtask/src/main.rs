@@ -1,1 +1,147 @@
-fn main() {}
+//! `cargo xtask <command>`: the project's developer tasks.
+//!
+//! * `bench-table` — reads criterion's results under `target/criterion` and
+//!   prints the median of every `<op>/<pair>/generic` benchmark beside its
+//!   `<op>/<pair>/hand` twin with the ratio (run `cargo bench -p lie` first).
+//! * `features` — checks that `lie` builds in every feature combination the
+//!   README promises: each backend alone, both, and `no_std` with `libm`.
+//!
+//! Scenario commands (`run`, `regress`, `bench`, `stress`) arrive with the
+//! `scenarios` crate.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("bench-table") => bench_table(),
+        Some("features") => features(),
+        Some(other) => Err(format!("unknown command `{other}`\n{USAGE}")),
+        None => Err(USAGE.to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+const USAGE: &str = "usage: cargo xtask <bench-table | features>";
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask sits in the workspace")
+        .to_path_buf()
+}
+
+/// Every `new/benchmark.json` + `new/estimates.json` pair under `dir`.
+fn collect(dir: &Path, out: &mut Vec<(String, f64)>) -> Result<(), String> {
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if !path.is_dir() {
+            continue;
+        }
+        if path.file_name().is_some_and(|n| n == "new") {
+            let bench = path.join("benchmark.json");
+            let est = path.join("estimates.json");
+            if bench.exists() && est.exists() {
+                let read = |p: &Path| -> Result<serde_json::Value, String> {
+                    let text =
+                        std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+                    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
+                };
+                let id = read(&bench)?["full_id"]
+                    .as_str()
+                    .unwrap_or_default()
+                    .to_string();
+                let median = read(&est)?["median"]["point_estimate"]
+                    .as_f64()
+                    .ok_or_else(|| format!("{}: no median.point_estimate", est.display()))?;
+                out.push((id, median));
+            }
+        } else {
+            collect(&path, out)?;
+        }
+    }
+    Ok(())
+}
+
+fn bench_table() -> Result<(), String> {
+    let root = std::env::var_os("CRITERION_HOME")
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("CARGO_TARGET_DIR").map(|t| PathBuf::from(t).join("criterion"))
+        })
+        .unwrap_or_else(|| workspace_root().join("target").join("criterion"));
+    if !root.exists() {
+        return Err(format!(
+            "{} does not exist: run `cargo bench -p lie` first",
+            root.display()
+        ));
+    }
+    let mut rows = Vec::new();
+    collect(&root, &mut rows)?;
+    // (op, pair) -> (generic, hand)
+    let mut table: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
+    for (id, median) in rows {
+        let parts: Vec<&str> = id.split('/').collect();
+        if let [op, pair, kind] = parts[..] {
+            let entry = table.entry((op.to_string(), pair.to_string())).or_default();
+            match kind {
+                "generic" => entry.0 = Some(median),
+                "hand" => entry.1 = Some(median),
+                _ => {}
+            }
+        }
+    }
+    println!("| operation | pair | generic (ns) | hand-written (ns) | ratio |");
+    println!("|---|---|---|---|---|");
+    let mut over = 0;
+    for ((op, pair), (g, h)) in &table {
+        let fmt = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.2}"));
+        let ratio = match (g, h) {
+            (Some(g), Some(h)) => {
+                let r = g / h;
+                if r > 1.10 {
+                    over += 1;
+                }
+                format!("{r:.2}")
+            }
+            _ => "–".to_string(),
+        };
+        println!("| {op} | {pair} | {} | {} | {ratio} |", fmt(*g), fmt(*h));
+    }
+    println!("\n{} rows, {over} over the 1.10 goal", table.len());
+    Ok(())
+}
+
+fn features() -> Result<(), String> {
+    let combos: [&[&str]; 5] = [
+        &["--no-default-features", "--features", "std,glam"],
+        &["--no-default-features", "--features", "std,nalgebra"],
+        &["--no-default-features", "--features", "glam,libm"],
+        &["--no-default-features", "--features", "nalgebra,libm"],
+        &["--no-default-features", "--features", "glam,nalgebra,libm"],
+    ];
+    for combo in combos {
+        println!("cargo build -p lie {}", combo.join(" "));
+        let status = Command::new(env!("CARGO"))
+            .args(["build", "-p", "lie"])
+            .args(combo)
+            .current_dir(workspace_root())
+            .status()
+            .map_err(|e| format!("cannot run cargo: {e}"))?;
+        if !status.success() {
+            return Err(format!("`cargo build -p lie {}` failed", combo.join(" ")));
+        }
+    }
+    println!("all {} feature combinations build", combos.len());
+    Ok(())
+}

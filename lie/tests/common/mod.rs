@@ -59,7 +59,11 @@ pub fn vb<B: Backend>(a: A3) -> V3<B> {
 }
 pub fn m64<B: Backend>(m: M3<B>) -> A33 {
     let c = B::mat3_cols(m).map(v64::<B>);
-    [[c[0][0], c[1][0], c[2][0]], [c[0][1], c[1][1], c[2][1]], [c[0][2], c[1][2], c[2][2]]]
+    [
+        [c[0][0], c[1][0], c[2][0]],
+        [c[0][1], c[1][1], c[2][1]],
+        [c[0][2], c[1][2], c[2][2]],
+    ]
 }
 pub fn mb<B: Backend>(a: A33) -> M3<B> {
     B::mat3_from_cols(
@@ -82,7 +86,11 @@ pub fn dot(a: A3, b: A3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 pub fn cross(a: A3, b: A3) -> A3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 pub fn norm(a: A3) -> f64 {
     dot(a, a).sqrt()
@@ -151,7 +159,13 @@ pub fn expm<const N: usize>(a: [[f64; N]; N]) -> [[f64; N]; N] {
 /// oblique ones.
 pub fn axes() -> Vec<A3> {
     let n = |a: A3| scale(a, 1.0 / norm(a));
-    vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], n([1.0, 1.0, 1.0]), n([0.3, -2.0, 0.7])]
+    vec![
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        n([1.0, 1.0, 1.0]),
+        n([0.3, -2.0, 0.7]),
+    ]
 }
 
 /// The hard angles below π − 1e-6: zero, tiny, and each cut-off ± 1e-6
