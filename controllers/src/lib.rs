@@ -1,3 +1,87 @@
-//! The geometric PID controllers of Goodarzi, Lee & Lee, the flight-mode
-//! scheduler and the gain checker. Not yet written: issue 4 builds it on the
-//! `lie` crate. The crate exists now so the workspace has its final shape.
+//! The geometric nonlinear PID controllers of Goodarzi, Lee & Lee,
+//! "Geometric Nonlinear PID Control of a Quadrotor UAV on SE(3)"
+//! (`../shared/paper/geometric-pid-se3.tex`; equation labels are cited as
+//! `(eqn:…)`).
+//!
+//! This crate owns the control laws — attitude mode (eqn:aM, eqn:eI),
+//! position mode with the computed attitude and its exact derivatives
+//! (eqn:Rd3, eqn:f, eqn:M, eqn:RdWc) — and the gain-condition checker of
+//! Propositions 2 and 3. It owns no state beyond the integral terms, which
+//! it *exposes* rather than hides: every law is a pure function that
+//! returns, besides the force and moment, the time derivative of its
+//! integral states, so a simulation can integrate them together with the
+//! vehicle (continuous control) and a flight computer can advance them by
+//! its sample period (sampled control). It does not own dynamics,
+//! integration or the flight-mode schedule.
+//!
+//! `#![no_std]` without the `std` feature (use `libm`); no heap anywhere.
+//! Conventions as in the paper: `e3` points down, thrust acts along `−b3`.
+
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+mod attitude_pid;
+mod gain_check;
+mod position_pid;
+mod vec;
+
+pub use attitude_pid::{AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control};
+pub use gain_check::{Condition, GainBounds, GainReport, check_gains};
+pub use position_pid::{
+    AccelerationModel, Degeneracy, PositionGains, PositionOutput, PositionReference, VehicleState,
+    position_control, thrust_pd_projection,
+};
+
+use lie::{Backend, M3, Real, S};
+
+/// Mass, inertia and gravity as the controller knows them.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RigidBodyParams<B: Backend> {
+    /// Mass `m` [kg].
+    pub mass: S<B>,
+    /// Inertia `J` in the body frame [kg m²].
+    pub inertia: M3<B>,
+    /// Gravitational acceleration `g` [m/s²], acting along `+e3`.
+    pub gravity: S<B>,
+}
+
+impl<B: Backend> RigidBodyParams<B> {
+    /// The quadrotor of the paper's numerical example (Section V):
+    /// `J = diag(0.43, 0.43, 1.02)·10⁻² kg m²`, `m = 0.755 kg`, `g = 9.81`.
+    pub fn paper() -> Self {
+        let s = S::<B>::lit;
+        let z = s(0.0);
+        Self {
+            mass: s(0.755),
+            inertia: B::mat3_from_cols(
+                B::vec3(s(0.43e-2), z, z),
+                B::vec3(z, s(0.43e-2), z),
+                B::vec3(z, z, s(1.02e-2)),
+            ),
+            gravity: s(9.81),
+        }
+    }
+}
+
+/// Errors of the control laws: bad input is reported, never turned into a
+/// NaN moment.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum ControlError {
+    /// An input field contained NaN or ±∞.
+    NonFinite {
+        /// The field, e.g. `"state.omega"`.
+        field: &'static str,
+    },
+}
+
+impl core::fmt::Display for ControlError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ControlError::NonFinite { field } => {
+                write!(f, "controller input `{field}` is not finite")
+            }
+        }
+    }
+}
+
+impl core::error::Error for ControlError {}

@@ -1,0 +1,142 @@
+//! Attitude controlled flight mode (Section III): the moment (eqn:aM) and
+//! the integral term (eqn:eI).
+
+use crate::vec::{cmul, is_finite};
+use crate::{ControlError, RigidBodyParams};
+use lie::{Backend, Real, Rotation, S, V3, e_omega};
+
+/// Attitude gains. The paper uses scalars; here `k_R`, `k_Ω`, `k_I` are
+/// diagonal (one value per body axis), as flight code often tunes yaw apart
+/// from roll and pitch. [`AttitudeGains::uniform`] gives the paper's form.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct AttitudeGains<B: Backend> {
+    /// `k_R` per body axis.
+    pub k_r: V3<B>,
+    /// `k_Ω` per body axis.
+    pub k_omega: V3<B>,
+    /// `k_I` per body axis (0 disables the integral term).
+    pub k_i: V3<B>,
+    /// `c2` of (eqn:eI): weight of `e_R` in the integrand.
+    pub c2: S<B>,
+}
+
+impl<B: Backend> AttitudeGains<B> {
+    /// Scalar gains, as in the paper.
+    pub fn uniform(k_r: S<B>, k_omega: S<B>, k_i: S<B>, c2: S<B>) -> Self {
+        Self {
+            k_r: B::vec3(k_r, k_r, k_r),
+            k_omega: B::vec3(k_omega, k_omega, k_omega),
+            k_i: B::vec3(k_i, k_i, k_i),
+            c2,
+        }
+    }
+    /// The paper's gains: `k_R = 0.65, k_Ω = 0.11, k_I = 0.06, c2 = 0.8`.
+    pub fn paper() -> Self {
+        let s = S::<B>::lit;
+        Self::uniform(s(0.65), s(0.11), s(0.06), s(0.8))
+    }
+}
+
+/// The desired attitude `R_d`, angular velocity `Ω_d` and its derivative
+/// `Ω̇_d` (both in the desired body frame, `Ṙ_d = R_d Ω_d^`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct AttitudeReference<B: Backend, R: Rotation<B>> {
+    /// `R_d`.
+    pub rd: R,
+    /// `Ω_d`.
+    pub omega_d: V3<B>,
+    /// `Ω̇_d`.
+    pub omega_d_dot: V3<B>,
+}
+
+/// What the attitude law computed.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct AttitudeOutput<B: Backend> {
+    /// The moment `M` (body frame).
+    pub moment: V3<B>,
+    /// `e_R`.
+    pub e_r: V3<B>,
+    /// `e_Ω`.
+    pub e_omega: V3<B>,
+    /// `Ψ(R, R_d)`.
+    pub psi: S<B>,
+    /// `ė_I = e_Ω + c2 e_R`, the integrand of (eqn:eI): integrate it
+    /// (continuous control) or multiply by the sample period (sampled).
+    pub e_i_rate: V3<B>,
+}
+
+/// The attitude law (eqn:aM):
+/// `M = −k_R e_R − k_Ω e_Ω − k_I e_I + (RᵀR_dΩ_d)^ J RᵀR_dΩ_d + J RᵀR_dΩ̇_d`,
+/// with `e_I` the caller-held integral of (eqn:eI). The gyroscopic term
+/// `Ω × JΩ` is not cancelled, as in the paper.
+pub fn attitude_control<B: Backend, R: Rotation<B>>(
+    params: &RigidBodyParams<B>,
+    gains: &AttitudeGains<B>,
+    r: R,
+    omega: V3<B>,
+    e_i: V3<B>,
+    reference: &AttitudeReference<B, R>,
+) -> Result<AttitudeOutput<B>, ControlError> {
+    if !is_finite::<B>(omega) {
+        return Err(ControlError::NonFinite { field: "omega" });
+    }
+    if !is_finite::<B>(e_i) {
+        return Err(ControlError::NonFinite {
+            field: "e_i (attitude integral)",
+        });
+    }
+    if !is_finite::<B>(reference.omega_d) || !is_finite::<B>(reference.omega_d_dot) {
+        return Err(ControlError::NonFinite {
+            field: "reference.omega_d / omega_d_dot",
+        });
+    }
+    let out = attitude_core(
+        params,
+        gains,
+        r,
+        omega,
+        e_i,
+        reference.rd,
+        reference.omega_d,
+        reference.omega_d_dot,
+    );
+    if !is_finite::<B>(out.moment) {
+        return Err(ControlError::NonFinite {
+            field: "attitude (R or R_d)",
+        });
+    }
+    Ok(out)
+}
+
+/// (eqn:aM)/(eqn:M) without input checks; shared by both flight modes.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
+    params: &RigidBodyParams<B>,
+    gains: &AttitudeGains<B>,
+    r: R,
+    omega: V3<B>,
+    e_i: V3<B>,
+    rd: R,
+    omega_d: V3<B>,
+    omega_d_dot: V3<B>,
+) -> AttitudeOutput<B> {
+    let e_r = r.e_r(rd);
+    let e_w = e_omega::<B, R>(r, omega, rd, omega_d);
+    // R^T R_d Ω_d and R^T R_d Ω̇_d: the desired rates seen in the body frame.
+    let rel = r.inverse() * rd;
+    let w = rel.act(omega_d);
+    let wd = rel.act(omega_d_dot);
+    let j = params.inertia;
+    let moment =
+        -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
+            + B::cross(w, j * w)
+            + j * wd;
+    AttitudeOutput {
+        moment,
+        e_r,
+        e_omega: e_w,
+        psi: r.psi(rd),
+        e_i_rate: e_w + e_r * gains.c2,
+    }
+}

@@ -1,0 +1,387 @@
+//! Position controlled flight mode (Section IV): thrust (eqn:f), computed
+//! attitude (eqn:Rd3, eqn:RdWc) with its angular velocity and acceleration
+//! obtained by differentiating `b3c` and `b1c` analytically, and the moment
+//! (eqn:M).
+
+use crate::attitude_pid::{AttitudeGains, attitude_core};
+use crate::vec::{cmul, is_finite, norm, unit_derivs, zero};
+use crate::{ControlError, RigidBodyParams};
+use lie::num_traits::Float;
+use lie::{Backend, Real, Rotation, S, V3, vee};
+
+/// Position gains, per inertial axis (diagonal); the paper's are scalars.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PositionGains<B: Backend> {
+    /// `k_x` per axis.
+    pub k_x: V3<B>,
+    /// `k_v` per axis.
+    pub k_v: V3<B>,
+    /// `k_i` per axis (0 disables the integral term).
+    pub k_i: V3<B>,
+    /// `c1`: weight of `e_x` in the integrand of `e_i`.
+    pub c1: S<B>,
+    /// `σ`: the saturation level of `sat_σ(e_i)`.
+    pub sigma: S<B>,
+    /// Off (the paper's form): `e_i` integrates freely and only the value
+    /// fed to `A` is saturated. On: `e_i`'s rate is zeroed in any component
+    /// already at `±σ` and pushing outward, so `e_i` itself stays in
+    /// `[−σ, σ]` (clamped anti-windup).
+    pub clamp_integral: bool,
+}
+
+impl<B: Backend> PositionGains<B> {
+    /// Scalar gains, as in the paper, with the clamp off.
+    pub fn uniform(k_x: S<B>, k_v: S<B>, k_i: S<B>, c1: S<B>, sigma: S<B>) -> Self {
+        let v = |k| B::vec3(k, k, k);
+        Self {
+            k_x: v(k_x),
+            k_v: v(k_v),
+            k_i: v(k_i),
+            c1,
+            sigma,
+            clamp_integral: false,
+        }
+    }
+    /// The paper's gains: `k_x = 12.8, k_v = 4.22, k_i = 1.28, c1 = 3.6, σ = 1`.
+    pub fn paper() -> Self {
+        let s = S::<B>::lit;
+        Self::uniform(s(12.8), s(4.22), s(1.28), s(3.6), s(1.0))
+    }
+}
+
+/// The position command `x_d(t)` with four derivatives and the heading
+/// command `b1d(t)` with two.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PositionReference<B: Backend> {
+    /// `x_d`.
+    pub x: V3<B>,
+    /// `ẋ_d`.
+    pub v: V3<B>,
+    /// `ẍ_d`.
+    pub a: V3<B>,
+    /// `x_d⁽³⁾`.
+    pub jerk: V3<B>,
+    /// `x_d⁽⁴⁾`.
+    pub snap: V3<B>,
+    /// `b1d`, the desired heading direction (need not be unit or normal to
+    /// `b3c`; it is projected).
+    pub b1d: V3<B>,
+    /// `ḃ1d`.
+    pub b1d_dot: V3<B>,
+    /// `b̈1d`.
+    pub b1d_ddot: V3<B>,
+}
+
+impl<B: Backend> PositionReference<B> {
+    /// Hold position `x_d` with heading `b1d`, all derivatives zero.
+    pub fn hold(x: V3<B>, b1d: V3<B>) -> Self {
+        let z = zero::<B>();
+        Self {
+            x,
+            v: z,
+            a: z,
+            jerk: z,
+            snap: z,
+            b1d,
+            b1d_dot: z,
+            b1d_ddot: z,
+        }
+    }
+}
+
+/// The vehicle state the position law reads: position and velocity in the
+/// inertial frame, attitude, body angular velocity.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct VehicleState<B: Backend, R: Rotation<B>> {
+    /// `x`.
+    pub x: V3<B>,
+    /// `v = ẋ`.
+    pub v: V3<B>,
+    /// `R`.
+    pub r: R,
+    /// `Ω`.
+    pub omega: V3<B>,
+}
+
+/// Which translational acceleration (and its derivative) the computed
+/// attitude's derivatives use.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum AccelerationModel<B: Backend> {
+    /// The nominal model with the integral term as the disturbance
+    /// estimate: `a = g e3 − (f/m) R e3 + k_i sat_σ(e_i)/m` (the default).
+    /// The controller does not know `Δ_x`, but at the equilibrium the
+    /// integral term equals it (`k_i sat_σ(e_i) = Δ_x`), so this model is
+    /// exact there and the equilibrium is the paper's.
+    Nominal,
+    /// The bare nominal model `a = g e3 − (f/m) R e3`. With `Δ_x ≠ 0` it
+    /// predicts an acceleration `−Δ_x/m` at hover, so `Ω_c ≠ 0` while the
+    /// vehicle is still and the loop settles with a persistent attitude
+    /// and position offset (the `closed_loop` tests measure it). It is exact
+    /// when `Δ_x = 0`.
+    NominalWithoutEstimate,
+    /// A measured or estimated acceleration and jerk.
+    Measured {
+        /// `ẍ`.
+        accel: V3<B>,
+        /// `x⁽³⁾`.
+        jerk: V3<B>,
+    },
+}
+
+/// Fallbacks taken when the construction of `R_c` degenerates.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct Degeneracy {
+    /// `‖A‖` was (numerically) zero, (eqn:A1) violated: the thrust direction
+    /// is undefined. `b3c` is then the current body axis `R e3` with zero
+    /// derivatives, and the thrust `−A·Re3` is ≈ 0.
+    pub thrust_direction_undefined: bool,
+    /// `b1d` was (nearly) parallel to `b3c`, so the heading is undefined.
+    /// The current body axis `R e1` is used as `b1d` with zero derivatives
+    /// (hold the present heading); if that is parallel too, `R e2`.
+    pub heading_undefined: bool,
+}
+
+/// What the position law computed.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PositionOutput<B: Backend, R: Rotation<B>> {
+    /// Total thrust `f` (eqn:f), acting along `−R e3`.
+    pub thrust: S<B>,
+    /// Moment `M` (eqn:M), body frame.
+    pub moment: V3<B>,
+    /// Computed attitude `R_c` (eqn:RdWc).
+    pub rc: R,
+    /// `Ω_c`, from `Ω_c^ = R_cᵀ Ṙ_c`.
+    pub omega_c: V3<B>,
+    /// `Ω̇_c`.
+    pub omega_c_dot: V3<B>,
+    /// `e_x = x − x_d`.
+    pub e_x: V3<B>,
+    /// `e_v = v − ẋ_d`.
+    pub e_v: V3<B>,
+    /// `e_R` against `R_c`.
+    pub e_r: V3<B>,
+    /// `e_Ω` against `Ω_c`.
+    pub e_omega: V3<B>,
+    /// `Ψ(R, R_c)`.
+    pub psi: S<B>,
+    /// `ė_i = e_v + c1 e_x` (zeroed where clamped, if the clamp is on).
+    pub e_i_pos_rate: V3<B>,
+    /// `ė_I = e_Ω + c2 e_R`.
+    pub e_i_att_rate: V3<B>,
+    /// Fallbacks taken, if any.
+    pub degeneracy: Degeneracy,
+}
+
+#[inline]
+fn sat_and_slope<B: Backend>(e: V3<B>, sigma: S<B>) -> (V3<B>, V3<B>) {
+    let a = B::vec3_to_array(e);
+    let (one, zero_) = (S::<B>::lit(1.0), S::<B>::lit(0.0));
+    let s = a.map(|x| x.max(-sigma).min(sigma));
+    // sat′ is 1 inside [−σ, σ] (the closed interval: the paper's cases) and
+    // 0 outside.
+    let d = a.map(|x| if x.abs() <= sigma { one } else { zero_ });
+    (B::vec3(s[0], s[1], s[2]), B::vec3(d[0], d[1], d[2]))
+}
+
+/// Zeroes the rate of components that sit at `±σ` and push outward.
+#[inline]
+fn clamp_rate<B: Backend>(e: V3<B>, rate: V3<B>, sigma: S<B>) -> V3<B> {
+    let (e, r) = (B::vec3_to_array(e), B::vec3_to_array(rate));
+    let z = S::<B>::lit(0.0);
+    let c = |i: usize| {
+        if (e[i] >= sigma && r[i] > z) || (e[i] <= -sigma && r[i] < z) {
+            z
+        } else {
+            r[i]
+        }
+    };
+    B::vec3(c(0), c(1), c(2))
+}
+
+/// The thrust of the paper's attitude-mode flip,
+/// `f = (k_x e_x + k_v e_v + m g e3 − m ẍ_d)·R e3`: the position-PD
+/// projection of (eqn:f) without the integral term.
+pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
+    params: &RigidBodyParams<B>,
+    gains: &PositionGains<B>,
+    state: &VehicleState<B, R>,
+    reference: &PositionReference<B>,
+) -> S<B> {
+    let e3 = B::vec3(S::<B>::lit(0.0), S::<B>::lit(0.0), S::<B>::lit(1.0));
+    let a = cmul::<B>(gains.k_x, state.x - reference.x)
+        + cmul::<B>(gains.k_v, state.v - reference.v)
+        + e3 * (params.mass * params.gravity)
+        - reference.a * params.mass;
+    B::dot(a, state.r.act(e3))
+}
+
+/// The position law: (eqn:Rd3), (eqn:f), (eqn:RdWc), (eqn:M).
+///
+/// `e_i_pos` and `e_i_att` are the caller-held integrals `e_i` and `e_I`.
+/// With `A = −k_x e_x − k_v e_v − k_i sat_σ(e_i) − m g e3 + m ẍ_d`:
+/// `b3c = −A/‖A‖`, `f = −A·R e3`, `b2c = b3c × b1d/‖·‖`, `b1c = b2c × b3c`,
+/// `R_c = [b1c, b2c, b3c]`. `Ȧ` and `Ä` use `ė_x = e_v`, `ė_v = a − ẍ_d`,
+/// `ė_i = e_v + c1 e_x`, sat′ (piecewise constant, so sat″ = 0 between
+/// crossings), and the acceleration from `model`; then
+/// `Ω_c = (R_cᵀṘ_c)^∨`, `Ω̇_c = (R_cᵀR̈_c)^∨` (the symmetric part
+/// `Ṙ_cᵀṘ_c` of the derivative of `R_cᵀṘ_c` has no vee).
+#[allow(clippy::too_many_arguments)]
+pub fn position_control<B: Backend, R: Rotation<B>>(
+    params: &RigidBodyParams<B>,
+    pos_gains: &PositionGains<B>,
+    att_gains: &AttitudeGains<B>,
+    state: &VehicleState<B, R>,
+    e_i_pos: V3<B>,
+    e_i_att: V3<B>,
+    reference: &PositionReference<B>,
+    model: AccelerationModel<B>,
+) -> Result<PositionOutput<B, R>, ControlError> {
+    for (v, field) in [
+        (state.x, "state.x"),
+        (state.v, "state.v"),
+        (state.omega, "state.omega"),
+        (e_i_pos, "e_i (position integral)"),
+        (e_i_att, "e_I (attitude integral)"),
+        (reference.x, "reference.x"),
+        (reference.v, "reference.v"),
+        (reference.a, "reference.a"),
+        (reference.jerk, "reference.jerk"),
+        (reference.snap, "reference.snap"),
+        (reference.b1d, "reference.b1d"),
+        (reference.b1d_dot, "reference.b1d_dot"),
+        (reference.b1d_ddot, "reference.b1d_ddot"),
+    ] {
+        if !is_finite::<B>(v) {
+            return Err(ControlError::NonFinite { field });
+        }
+    }
+    if let AccelerationModel::Measured { accel, jerk } = model
+        && !(is_finite::<B>(accel) && is_finite::<B>(jerk))
+    {
+        return Err(ControlError::NonFinite {
+            field: "measured acceleration/jerk",
+        });
+    }
+    let s = S::<B>::lit;
+    let (m, g) = (params.mass, params.gravity);
+    let g_ = &pos_gains;
+    let (z, e1, e2, e3) = (
+        zero::<B>(),
+        B::vec3(s(1.0), s(0.0), s(0.0)),
+        B::vec3(s(0.0), s(1.0), s(0.0)),
+        B::vec3(s(0.0), s(0.0), s(1.0)),
+    );
+    let r = state.r;
+    let mut degeneracy = Degeneracy::default();
+
+    let e_x = state.x - reference.x;
+    let e_v = state.v - reference.v;
+    let (sat, slope) = sat_and_slope::<B>(e_i_pos, g_.sigma);
+    let mut ei_rate = e_v + e_x * g_.c1;
+    if g_.clamp_integral {
+        ei_rate = clamp_rate::<B>(e_i_pos, ei_rate, g_.sigma);
+    }
+    let a_cmd =
+        -cmul::<B>(g_.k_x, e_x) - cmul::<B>(g_.k_v, e_v) - cmul::<B>(g_.k_i, sat) - e3 * (m * g)
+            + reference.a * m;
+    let re3 = r.act(e3);
+    let thrust = -B::dot(a_cmd, re3);
+
+    // First derivatives.
+    let estimate = cmul::<B>(g_.k_i, sat) * (s(1.0) / m);
+    let accel = match model {
+        AccelerationModel::Nominal => e3 * g - re3 * (thrust / m) + estimate,
+        AccelerationModel::NominalWithoutEstimate => e3 * g - re3 * (thrust / m),
+        AccelerationModel::Measured { accel, .. } => accel,
+    };
+    let ev_dot = accel - reference.a;
+    let a_dot = -cmul::<B>(g_.k_x, e_v)
+        - cmul::<B>(g_.k_v, ev_dot)
+        - cmul::<B>(g_.k_i, cmul::<B>(slope, ei_rate))
+        + reference.jerk * m;
+    // Second derivatives.
+    let re3_dot = r.act(B::cross(state.omega, e3));
+    let thrust_dot = -B::dot(a_dot, re3) - B::dot(a_cmd, re3_dot);
+    let bare_jerk = -(re3 * thrust_dot + re3_dot * thrust) * (s(1.0) / m);
+    let jerk = match model {
+        AccelerationModel::Nominal => {
+            bare_jerk + cmul::<B>(g_.k_i, cmul::<B>(slope, ei_rate)) * (s(1.0) / m)
+        }
+        AccelerationModel::NominalWithoutEstimate => bare_jerk,
+        AccelerationModel::Measured { jerk, .. } => jerk,
+    };
+    let ev_ddot = jerk - reference.jerk;
+    let mut ei_rate_dot = ev_dot + e_v * g_.c1;
+    if g_.clamp_integral {
+        ei_rate_dot = clamp_rate::<B>(e_i_pos, ei_rate_dot, g_.sigma);
+    }
+    let a_ddot = -cmul::<B>(g_.k_x, ev_dot)
+        - cmul::<B>(g_.k_v, ev_ddot)
+        - cmul::<B>(g_.k_i, cmul::<B>(slope, ei_rate_dot))
+        + reference.snap * m;
+
+    // b3c and its derivatives; (eqn:A1) guarded.
+    let a_norm = norm::<B>(a_cmd);
+    let a_floor = S::<B>::epsilon().sqrt() * m * g;
+    let (b3, b3d, b3dd) = if a_norm > a_floor {
+        unit_derivs::<B>(-a_cmd, -a_dot, -a_ddot)
+    } else {
+        degeneracy.thrust_direction_undefined = true;
+        (re3, z, z)
+    };
+
+    // b2c = b3c × b1d / ‖·‖ and derivatives; b1d ∥ b3c guarded.
+    let mut b1d = (reference.b1d, reference.b1d_dot, reference.b1d_ddot);
+    let c_floor = S::<B>::epsilon().sqrt() * (s(1.0) + norm::<B>(reference.b1d));
+    if norm::<B>(B::cross(b3, b1d.0)) <= c_floor {
+        degeneracy.heading_undefined = true;
+        let alt = if norm::<B>(B::cross(b3, r.act(e1))) > c_floor {
+            r.act(e1)
+        } else {
+            r.act(e2)
+        };
+        b1d = (alt, z, z);
+    }
+    let c = B::cross(b3, b1d.0);
+    let cd = B::cross(b3d, b1d.0) + B::cross(b3, b1d.1);
+    let cdd = B::cross(b3dd, b1d.0) + B::cross(b3d, b1d.1) * s(2.0) + B::cross(b3, b1d.2);
+    let (b2, b2d, b2dd) = unit_derivs::<B>(c, cd, cdd);
+    let b1 = B::cross(b2, b3);
+    let b1dot = B::cross(b2d, b3) + B::cross(b2, b3d);
+    let b1ddot = B::cross(b2dd, b3) + B::cross(b2d, b3d) * s(2.0) + B::cross(b2, b3dd);
+
+    let rc_m = B::mat3_from_cols(b1, b2, b3);
+    let rct = B::mat3_transpose(rc_m);
+    let omega_c = vee::<B>(rct * B::mat3_from_cols(b1dot, b2d, b3d));
+    let omega_c_dot = vee::<B>(rct * B::mat3_from_cols(b1ddot, b2dd, b3dd));
+    let rc = R::from_matrix(rc_m);
+
+    let att = attitude_core(
+        params,
+        att_gains,
+        r,
+        state.omega,
+        e_i_att,
+        rc,
+        omega_c,
+        omega_c_dot,
+    );
+    if !is_finite::<B>(att.moment) || !thrust.is_finite() {
+        return Err(ControlError::NonFinite { field: "state.r" });
+    }
+    Ok(PositionOutput {
+        thrust,
+        moment: att.moment,
+        rc,
+        omega_c,
+        omega_c_dot,
+        e_x,
+        e_v,
+        e_r: att.e_r,
+        e_omega: att.e_omega,
+        psi: att.psi,
+        e_i_pos_rate: ei_rate,
+        e_i_att_rate: att.e_i_rate,
+        degeneracy,
+    })
+}
