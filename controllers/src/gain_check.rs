@@ -51,10 +51,10 @@ pub struct GainReport {
     pub conditions: [Condition; 4],
     /// `α = √(ψ1(2 − ψ1))`.
     pub alpha: f64,
-    /// Slowest time constant [s] of the linearised attitude loop
+    /// Slowest time constant (s) of the linearised attitude loop
     /// `J s³ + k_Ω s² + (k_R + k_I) s + k_I c2` over the three axes.
     pub attitude_time_constant: f64,
-    /// Slowest time constant [s] of the linearised position loop
+    /// Slowest time constant (s) of the linearised position loop
     /// `m s³ + k_v s² + (k_x + k_i) s + k_i c1`, unsaturated.
     pub position_time_constant: f64,
 }

@@ -37,11 +37,11 @@ use lie::{Backend, M3, Real, S};
 /// Mass, inertia and gravity as the controller knows them.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct RigidBodyParams<B: Backend> {
-    /// Mass `m` [kg].
+    /// Mass `m` (kg).
     pub mass: S<B>,
-    /// Inertia `J` in the body frame [kg m²].
+    /// Inertia `J` in the body frame (kg m²).
     pub inertia: M3<B>,
-    /// Gravitational acceleration `g` [m/s²], acting along `+e3`.
+    /// Gravitational acceleration `g` (m/s²), acting along `+e3`.
     pub gravity: S<B>,
 }
 
