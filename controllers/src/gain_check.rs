@@ -5,6 +5,31 @@
 //! The checker works in `f64` whatever the controller's scalar: it is an
 //! offline design tool. Diagonal gains are checked axis by axis (each
 //! condition with that axis's gains) and the worst axis is reported.
+//!
+//! # The paper's gains
+//!
+//! With `B1 = 8 N` (hover needs `m g = 7.41 N`), `B2 = 0.1`
+//! (`‖2J − tr(J) I‖ = 0.0102` times `‖Ω_d‖ ≈ 10 rad/s`), `δ_x = 1 N`,
+//! `ψ1 = 0.05`, `e_xmax = 1 m`, the checker reports (test
+//! `gain_checker_on_the_paper_gains`, values confirmed with numpy):
+//!
+//! ```text
+//! condition      statement                                 value        bound       margin  holds
+//! (eqn:c2)       c2 < min{√(k_R λm)/λM, 4k_Ω/(…)}        0.80000      4.52954      3.72954  yes
+//! (eqn:kisigma)  k_i σ > δ_x                             1.28000      1.00000      0.28000  yes
+//! (eqn:c1b)      c1 < min{4k_xk_v(1−α)²/(…), √(k_x/m)}      3.60000      1.78507     -1.81493  NO
+//! (eqn:kRkWb)    λm(W2) > ‖W12‖²/(4 λm(W1))              0.07773          inf         -inf  NO
+//! α = √(ψ1(2−ψ1)) = 0.31225
+//! slowest time constant, linearised attitude loop: 14.636 s
+//! slowest time constant, linearised position loop: 2.744 s
+//! ```
+//!
+//! So the paper's numerical example meets the attitude conditions but not
+//! (eqn:c1b): `c1 = 3.6` is above its bound, which also leaves `W1`
+//! indefinite (`λm(W1) = −2.70`) so (eqn:kRkWb) cannot hold. The conditions
+//! are sufficient, not necessary: the closed loop still converges in
+//! simulation (`closed_loop` tests). The slow attitude time constant is the
+//! integral mode, root `≈ −k_I c2/(k_R + k_I)`.
 
 use crate::{AttitudeGains, PositionGains, RigidBodyParams};
 #[allow(unused_imports)] // needed for f64 maths without std (libm through num-traits)

@@ -11,8 +11,9 @@
 //! returns, besides the force and moment, the time derivative of its
 //! integral states, so a simulation can integrate them together with the
 //! vehicle (continuous control) and a flight computer can advance them by
-//! its sample period (sampled control). It does not own dynamics,
-//! integration or the flight-mode schedule.
+//! its sample period (sampled control). The [`Scheduler`] strings the two
+//! modes into a plan switched by time or by `Ψ`. It does not own dynamics
+//! or integration.
 //!
 //! `#![no_std]` without the `std` feature (use `libm`); no heap anywhere.
 //! Conventions as in the paper: `e3` points down, thrust acts along `−b3`.
@@ -22,11 +23,16 @@
 
 mod attitude_pid;
 mod gain_check;
+mod mode_scheduler;
 mod position_pid;
 mod vec;
 
 pub use attitude_pid::{AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control};
 pub use gain_check::{Condition, GainBounds, GainReport, check_gains};
+pub use mode_scheduler::{
+    ControlCommand, FlightMode, IntegralStates, Scheduler, Segment, Switch, SwitchWhen,
+    ThrustCommand,
+};
 pub use position_pid::{
     AccelerationModel, Degeneracy, PositionGains, PositionOutput, PositionReference, VehicleState,
     position_control, thrust_pd_projection,
@@ -72,6 +78,8 @@ pub enum ControlError {
         /// The field, e.g. `"state.omega"`.
         field: &'static str,
     },
+    /// A [`Scheduler`] was given an empty plan.
+    EmptyPlan,
 }
 
 impl core::fmt::Display for ControlError {
@@ -80,6 +88,7 @@ impl core::fmt::Display for ControlError {
             ControlError::NonFinite { field } => {
                 write!(f, "controller input `{field}` is not finite")
             }
+            ControlError::EmptyPlan => write!(f, "the flight-mode plan has no segments"),
         }
     }
 }
