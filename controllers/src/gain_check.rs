@@ -11,7 +11,7 @@
 //! With `B1 = 8 N` (hover needs `m g = 7.41 N`), `B2 = 0.1`
 //! (`‖2J − tr(J) I‖ = 0.0102` times `‖Ω_d‖ ≈ 10 rad/s`), `δ_x = 1 N`,
 //! `ψ1 = 0.05`, `e_xmax = 1 m`, the checker reports (test
-//! `gain_checker_on_the_paper_gains`, values confirmed with numpy):
+//! `controllers/tests/gain_report.rs`, values confirmed with numpy):
 //!
 //! ```text
 //! condition      statement                                 value        bound       margin  holds
