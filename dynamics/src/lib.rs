@@ -1,3 +1,314 @@
-//! Rigid-body state on SE(3)×R⁶, the `Vehicle` trait and the paper's
-//! quadrotor. Not yet written: issue 3 builds it on the `lie` crate. The
-//! crate exists now so the workspace has its final shape.
+//! Rigid-body vehicles for the geometric PID framework.
+//!
+//! Conventions are the paper's (see `DESIGN.md`): the inertial `e3` points
+//! **down**, `R` maps body to inertial vectors, `Ω` is in the body frame, the
+//! velocity `v` is inertial, and the total thrust `f` acts along `−R e3`:
+//!
+//! ```text
+//! ẋ = v                                   (eqn:EL1)
+//! m v̇ = m g e3 − f R e3 + Δ_x             (eqn:EL2)
+//! Ṙ = R Ω^                                (eqn:EL3)
+//! J Ω̇ + Ω × JΩ = M + Δ_R                  (eqn:EL4)
+//! ```
+//!
+//! A simulation holds its vehicle as a `Box<dyn Vehicle<B>>`: the
+//! [`Vehicle`] trait says what a body is (mass, inertia, gravity, whether it
+//! translates), how actuator commands become a body [`Wrench`] and back,
+//! what the actuators can deliver, and which disturbance and configuration
+//! loads (gravity about a pivot) act on it. [`loads`] turns a vehicle, a
+//! state and a commanded wrench into the total force and moment that an
+//! integrator needs; nothing in it is specific to quadrotors.
+//!
+//! Shipped vehicles: [`Quadrotor`] (the paper's, with its allocation and
+//! fixed disturbances), [`AttitudeStand`] (the paper's Section VI test
+//! stand: a quadrotor on a spherical joint below its centre of gravity, an
+//! inverted 3D pendulum), and [`FreeRigidBody`] (torque-free, with its
+//! invariants and the exact solution in [`free_body`]).
+//!
+//! # Adding a vehicle
+//! Implement [`Vehicle`]: `mass`, `inertia`, `gravity`, `actuator_count`,
+//! `wrench_from_actuators` and `actuators_from_wrench` are required; override
+//! `translates` (false for a pinned body), `saturate` (actuator limits),
+//! `disturbance` and `configuration_moment` (loads that depend on the
+//! attitude, such as gravity about a pivot) when they apply. The defaults cost
+//! nothing: a vehicle that returns `None` from `disturbance` is never asked to
+//! add one. `examples/attitude_stand.rs` is a complete second vehicle.
+
+#![deny(missing_docs)]
+
+use core::fmt;
+
+use lie::num_traits::{Float, Zero};
+use lie::{Backend, M3, Real, S, V3, ops};
+
+pub mod free_body;
+mod vehicles;
+
+pub use vehicles::{AttitudeStand, FreeRigidBody, Quadrotor, RotorLimits};
+
+/// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
+/// inertial), position and velocity in the inertial frame, angular velocity
+/// in the body frame.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RigidBodyState<B: Backend> {
+    /// Attitude, a rotation matrix mapping body vectors to inertial ones.
+    pub r: M3<B>,
+    /// Position of the centre of mass, inertial frame, m.
+    pub x: V3<B>,
+    /// Velocity, inertial frame, m/s.
+    pub v: V3<B>,
+    /// Angular velocity, body frame, rad/s.
+    pub omega: V3<B>,
+}
+
+impl<B: Backend> RigidBodyState<B> {
+    /// At rest at the origin with `R = I` (the paper's initial hover).
+    pub fn at_rest() -> Self {
+        Self {
+            r: ops::identity::<B>(),
+            x: ops::zero::<B>(),
+            v: ops::zero::<B>(),
+            omega: ops::zero::<B>(),
+        }
+    }
+
+    /// First field that holds a NaN or ±∞, if any.
+    pub fn non_finite_field(&self) -> Option<&'static str> {
+        if !ops::is_finite_mat::<B>(self.r) {
+            Some("r")
+        } else if !ops::is_finite_vec::<B>(self.x) {
+            Some("x")
+        } else if !ops::is_finite_vec::<B>(self.v) {
+            Some("v")
+        } else if !ops::is_finite_vec::<B>(self.omega) {
+            Some("omega")
+        } else {
+            None
+        }
+    }
+}
+
+/// Body wrench commanded to the vehicle: total thrust `f` along `−b3` and the
+/// body moment `M`.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Wrench<B: Backend> {
+    /// Total thrust, N (positive pushes along `−R e3`, i.e. up).
+    pub thrust: S<B>,
+    /// Body moment, N m.
+    pub moment: V3<B>,
+}
+
+impl<B: Backend> Wrench<B> {
+    /// No thrust, no moment.
+    pub fn zero() -> Self {
+        Self {
+            thrust: S::<B>::zero(),
+            moment: ops::zero::<B>(),
+        }
+    }
+}
+
+/// Unmodelled loads: a force in the inertial frame and a moment in the body
+/// frame (the paper's `Δ_x`, `Δ_R`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Disturbance<B: Backend> {
+    /// Inertial-frame force `Δ_x`, N.
+    pub force: V3<B>,
+    /// Body-frame moment `Δ_R`, N m.
+    pub moment: V3<B>,
+}
+
+/// Total external loads on the body, what an integrator needs besides the
+/// mass and inertia: the inertial force (gravity, thrust and disturbance) and
+/// the body moment (control, disturbance, configuration moments), without the
+/// gyroscopic term `Ω × JΩ`, which every integrator treats itself.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Loads<B: Backend> {
+    /// Inertial-frame force, N.
+    pub force: V3<B>,
+    /// Body-frame moment, N m.
+    pub moment: V3<B>,
+}
+
+/// Errors from vehicle construction and allocation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DynamicsError {
+    /// A parameter is outside its valid range.
+    InvalidParameter {
+        /// Which parameter.
+        field: &'static str,
+        /// Its value (as f64, for the message).
+        value: f64,
+        /// What it must satisfy.
+        expected: &'static str,
+    },
+    /// A slice of actuator values had the wrong length.
+    ActuatorCount {
+        /// The vehicle's actuator count.
+        expected: usize,
+        /// The slice length given.
+        got: usize,
+    },
+    /// A NaN or ±∞ reached an input.
+    NonFinite {
+        /// Which input.
+        field: &'static str,
+    },
+}
+
+impl fmt::Display for DynamicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DynamicsError::InvalidParameter {
+                field,
+                value,
+                expected,
+            } => write!(f, "invalid `{field}` = {value}: expected {expected}"),
+            DynamicsError::ActuatorCount { expected, got } => write!(
+                f,
+                "actuator slice has {got} entries, the vehicle has {expected} actuators"
+            ),
+            DynamicsError::NonFinite { field } => write!(f, "`{field}` is not finite"),
+        }
+    }
+}
+
+impl std::error::Error for DynamicsError {}
+
+/// A vehicle: a rigid body with actuators. Object safe; simulations hold a
+/// `Box<dyn Vehicle<B>>` so that a new vehicle needs no change anywhere else.
+pub trait Vehicle<B: Backend>: Send + Sync {
+    /// Short name for reports, e.g. `"quadrotor"`.
+    fn name(&self) -> &str;
+    /// Mass, kg.
+    fn mass(&self) -> S<B>;
+    /// Inertia about the point the body rotates about (the centre of mass
+    /// for a free body, the pivot for a pinned one), body frame, kg m².
+    fn inertia(&self) -> M3<B>;
+    /// Gravitational acceleration along `+e3`, m/s².
+    fn gravity(&self) -> S<B>;
+    /// Whether the body translates. `false` for a body on a spherical joint
+    /// (or an attitude-only study): integrators then leave `x` and `v`
+    /// untouched and skip their arithmetic.
+    fn translates(&self) -> bool {
+        true
+    }
+    /// Number of actuators (rotors, …).
+    fn actuator_count(&self) -> usize;
+    /// Wrench produced by the actuator values `u` (e.g. rotor thrusts).
+    fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError>;
+    /// Actuator values that produce `w` (the allocation inverse), written
+    /// into `out` (no allocation).
+    fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError>;
+    /// The wrench the actuators can actually deliver when `w` is commanded.
+    /// The default has no limits.
+    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
+        w
+    }
+    /// The disturbance at time `t` in `state`, `None` when there is none (the
+    /// default), so a clean vehicle evaluates nothing.
+    fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
+        None
+    }
+    /// Attitude-dependent moment such as gravity about a pivot, body frame;
+    /// `None` (the default) when there is none.
+    fn configuration_moment(&self, _state: &RigidBodyState<B>) -> Option<V3<B>> {
+        None
+    }
+    /// Whether `disturbance` or `configuration_moment` read the velocities
+    /// `v` or `Ω` (drag, say). Implicit integrators (LGVI) then iterate
+    /// their end-point loads; the default `false` lets them evaluate once.
+    fn rate_dependent_loads(&self) -> bool {
+        false
+    }
+}
+
+/// Total loads on `vehicle` in `state` at time `t` under the commanded
+/// `wrench` (passed through [`Vehicle::saturate`]): the right-hand sides of
+/// (eqn:EL2) and (eqn:EL4) without the gyroscopic term.
+#[inline]
+pub fn loads<B: Backend>(
+    vehicle: &dyn Vehicle<B>,
+    t: S<B>,
+    state: &RigidBodyState<B>,
+    wrench: &Wrench<B>,
+) -> Loads<B> {
+    let w = vehicle.saturate(*wrench);
+    let [_, _, b3] = B::mat3_cols(state.r);
+    let zero = S::<B>::zero();
+    let mut force = if vehicle.translates() {
+        B::vec3(zero, zero, vehicle.mass() * vehicle.gravity()) - b3 * w.thrust
+    } else {
+        ops::zero::<B>()
+    };
+    let mut moment = w.moment;
+    if let Some(d) = vehicle.disturbance(t, state) {
+        if vehicle.translates() {
+            force = force + d.force;
+        }
+        moment = moment + d.moment;
+    }
+    if let Some(m) = vehicle.configuration_moment(state) {
+        moment = moment + m;
+    }
+    Loads { force, moment }
+}
+
+/// Kinetic energy `½ ΩᵀJΩ + ½ m vᵀv`.
+pub fn kinetic_energy<B: Backend>(mass: S<B>, inertia: M3<B>, state: &RigidBodyState<B>) -> S<B> {
+    let half = S::<B>::lit(0.5);
+    half * B::dot(state.omega, inertia * state.omega) + half * mass * B::dot(state.v, state.v)
+}
+
+/// Spatial (inertial-frame) angular momentum `π = R J Ω`, constant for a
+/// torque-free body.
+pub fn spatial_angular_momentum<B: Backend>(inertia: M3<B>, state: &RigidBodyState<B>) -> V3<B> {
+    state.r * (inertia * state.omega)
+}
+
+/// Checks that `j` is a symmetric positive-definite inertia matrix (by its
+/// leading principal minors) with finite entries.
+pub fn check_inertia<B: Backend>(j: M3<B>) -> Result<(), DynamicsError> {
+    if !ops::is_finite_mat::<B>(j) {
+        return Err(DynamicsError::NonFinite { field: "inertia" });
+    }
+    let e = ops::elems::<B>(j);
+    let scale = e[0][0].abs() + e[1][1].abs() + e[2][2].abs();
+    let tol = S::<B>::epsilon() * S::<B>::lit(64.0) * scale;
+    for (i, k) in [(0, 1), (0, 2), (1, 2)] {
+        let d = (e[i][k] - e[k][i]).abs();
+        if d > tol {
+            return Err(DynamicsError::InvalidParameter {
+                field: "inertia",
+                value: d.to_f64_lossless(),
+                expected: "a symmetric matrix (this is |J_ik − J_ki|)",
+            });
+        }
+    }
+    let m1 = e[0][0];
+    let m2 = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+    let m3 = ops::det::<B>(j);
+    for (minor, name) in [(m1, "J11"), (m2, "2×2 leading minor"), (m3, "det J")] {
+        if minor <= S::<B>::zero() {
+            let _ = name;
+            return Err(DynamicsError::InvalidParameter {
+                field: "inertia",
+                value: minor.to_f64_lossless(),
+                expected: "a positive-definite matrix (a leading minor is ≤ 0)",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks a strictly positive, finite scalar parameter.
+pub fn check_positive<T: Real>(field: &'static str, value: T) -> Result<(), DynamicsError> {
+    if !value.is_finite() || value <= T::zero() {
+        return Err(DynamicsError::InvalidParameter {
+            field,
+            value: value.to_f64_lossless(),
+            expected: "a finite value > 0",
+        });
+    }
+    Ok(())
+}

@@ -1,3 +1,196 @@
-//! The `Integrator` trait and the LGVI, RK4, RKMK4, Euler and Dormand–Prince
-//! steppers. Not yet written: issue 3 builds it on `lie` and `dynamics`.
-//! The crate exists now so the workspace has its final shape.
+//! Swappable integrators for rigid bodies on SO(3) × Rⁿ.
+//!
+//! The system they advance is described by [`System`]: a rigid body
+//! (mass, inertia, whether it translates) plus `N` extra scalar states (a
+//! controller's integral terms, say), and a load function returning the
+//! total inertial force, the body moment and the extra states' rates. They
+//! are therefore not tied to the quadrotor: [`OpenLoop`] wraps any
+//! [`dynamics::Vehicle`] under a fixed wrench, [`problems::HeavyTop`] is a
+//! forced test problem, and the scenario runner's closed loop is one more
+//! `System` with `N = 6`.
+//!
+//! | stepper | order | on SO(3) | loads per step | notes |
+//! |---|---|---|---|---|
+//! | [`Euler`] | 1 | no (embedding) | 1 | baseline |
+//! | [`Rk4`] | 4 | no, or by projection ([`Rk4::projected`]) | 4 | classical RK4 on R's nine entries |
+//! | [`Rkmk4`] | 4 | yes | 4 | Runge–Kutta–Munthe-Kaas with `dexp⁻¹ = J_r⁻¹` |
+//! | [`Lgvi`] | 2 | yes | 1 (+ iterations if loads read rates) | variational, symplectic when unforced; implicit |
+//! | [`Dopri`] | 5(4) | no (embedding) | 6 per accepted substep (FSAL) | adaptive, for references |
+//!
+//! Compile-time choice: every stepper implements [`Integrator`], so code
+//! generic over `I: Integrator<B, N>` is monomorphised per stepper. Run-time
+//! choice: [`Stepper`] is an enum over all of them, built from a name with
+//! [`Stepper::from_name`]; its dispatch is one `match` per step, outside
+//! the per-stage arithmetic.
+//!
+//! A step writes into the caller's [`State`]; no stepper allocates. A step
+//! that fails (non-finite state, an LGVI solve with no solution, a Dormand–
+//! Prince step size underflow) returns a [`StepError`] and leaves the state
+//! untouched.
+
+#![deny(missing_docs)]
+
+mod dopri;
+mod lgvi;
+pub mod problems;
+mod rk;
+mod stepper;
+mod system;
+
+pub use dopri::Dopri;
+pub use lgvi::{EndLoad, Lgvi};
+pub use rk::{Euler, Rk4, Rkmk4};
+pub use stepper::{IntegratorKind, Stepper, StepperConfig, UnknownIntegrator};
+pub use system::{Load, OpenLoop, State, System};
+
+use core::fmt;
+use lie::{Backend, S};
+
+/// What a step did, for reports and tests.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct StepStats {
+    /// Load evaluations.
+    pub evaluations: u32,
+    /// Substeps taken (Dormand–Prince's accepted steps, LGVI halvings + 1).
+    pub substeps: u32,
+    /// Rejected substeps (Dormand–Prince).
+    pub rejected: u32,
+    /// Largest Newton iteration count of an implicit solve (LGVI), 0 else.
+    pub newton_iterations: u32,
+    /// Largest relative residual of an implicit solve (LGVI), 0 else.
+    pub residual: f64,
+}
+
+impl StepStats {
+    pub(crate) fn merge(&mut self, o: StepStats) {
+        self.evaluations += o.evaluations;
+        self.substeps += o.substeps;
+        self.rejected += o.rejected;
+        self.newton_iterations = self.newton_iterations.max(o.newton_iterations);
+        self.residual = self.residual.max(o.residual);
+    }
+}
+
+/// Why a step failed. The state is left as it was before the step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepError {
+    /// `h` was not finite and positive.
+    InvalidStep {
+        /// The step size given.
+        h: f64,
+    },
+    /// A NaN or ±∞ appeared in the state or a load.
+    NonFinite {
+        /// Which quantity.
+        field: &'static str,
+        /// Time of the step.
+        t: f64,
+    },
+    /// The LGVI's implicit attitude equation has no (near-identity) solution
+    /// at this step size, even after halving: its hard limit `h‖Ω‖ ≲ 1`.
+    NoSolution {
+        /// Time of the step.
+        t: f64,
+        /// The (smallest) step size tried.
+        h: f64,
+        /// `h‖Ω‖` at that step.
+        h_omega: f64,
+        /// Newton iterations spent.
+        iterations: u32,
+        /// Relative residual reached.
+        residual: f64,
+    },
+    /// The LGVI's end-point load iteration (loads that read `v`, `Ω` or the
+    /// extra states) did not converge: the feedback is too stiff for `h`.
+    EndLoadDiverged {
+        /// Time of the step.
+        t: f64,
+        /// Step size.
+        h: f64,
+    },
+    /// The adaptive step size fell below what the scalar can resolve.
+    StepTooSmall {
+        /// Time where it happened.
+        t: f64,
+        /// The step size proposed.
+        h: f64,
+    },
+}
+
+impl fmt::Display for StepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StepError::InvalidStep { h } => write!(f, "step size h = {h} must be finite and > 0"),
+            StepError::NonFinite { field, t } => {
+                write!(f, "`{field}` became non-finite at t = {t}")
+            }
+            StepError::NoSolution {
+                t,
+                h,
+                h_omega,
+                iterations,
+                residual,
+            } => write!(
+                f,
+                "LGVI attitude equation has no solution at t = {t} with h = {h} \
+                 (h‖Ω‖ = {h_omega:.3}, the limit is about 1; {iterations} Newton iterations, \
+                 residual {residual:.1e}); reduce the step"
+            ),
+            StepError::EndLoadDiverged { t, h } => write!(
+                f,
+                "LGVI end-point load iteration diverged at t = {t} with h = {h}; reduce the step"
+            ),
+            StepError::StepTooSmall { t, h } => write!(
+                f,
+                "adaptive step size fell to {h:e} at t = {t}: tolerance too tight for the scalar type"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for StepError {}
+
+/// A one-step method for a [`System`] with `N` extra states.
+pub trait Integrator<B: Backend, const N: usize> {
+    /// Name as accepted by [`Stepper::from_name`].
+    fn name(&self) -> &'static str;
+    /// Order of accuracy on smooth problems.
+    fn order(&self) -> u32;
+    /// Advances `y` from `t` to `t + h` in place.
+    fn step<Sys: System<B, N> + ?Sized>(
+        &mut self,
+        sys: &mut Sys,
+        t: S<B>,
+        h: S<B>,
+        y: &mut State<B, N>,
+    ) -> Result<StepStats, StepError>;
+    /// Forgets cached loads (FSAL stage, LGVI end-point load); call it after
+    /// changing the state or the system between steps. Steppers also detect
+    /// a changed state themselves, so this is only needed when the *system*
+    /// changed (a new mode, a new command) with the state unchanged.
+    fn reset(&mut self) {}
+}
+
+/// Takes `n` steps of size `h` from `t0`; the time of step `k` is
+/// `t0 + k h` computed by multiplication, not by repeated addition.
+pub fn integrate_fixed<B, I, Sys, const N: usize>(
+    integrator: &mut I,
+    sys: &mut Sys,
+    t0: S<B>,
+    h: S<B>,
+    n: usize,
+    y: &mut State<B, N>,
+) -> Result<StepStats, StepError>
+where
+    B: Backend,
+    I: Integrator<B, N> + ?Sized,
+    Sys: System<B, N> + ?Sized,
+{
+    use lie::Real;
+    let mut stats = StepStats::default();
+    for k in 0..n {
+        let t = t0 + h * S::<B>::lit(k as f64);
+        stats.merge(integrator.step(sys, t, h, y)?);
+    }
+    Ok(stats)
+}

@@ -85,24 +85,30 @@ pub type V3<B> = <B as Backend>::Vec3;
 /// Matrix alias for a backend.
 pub type M3<B> = <B as Backend>::Mat3;
 
-/// Derived helpers written once on top of the primitives.
-pub(crate) mod ops {
+/// Derived helpers written once on top of the [`Backend`] primitives, public
+/// so that downstream crates (dynamics, integrators) share one definition
+/// instead of re-deriving zero vectors, norms and 3×3 inverses per crate.
+pub mod ops {
     use super::*;
     use num_traits::{Float, One, Zero};
 
+    /// The zero vector.
     #[inline(always)]
     pub fn zero<B: Backend>() -> V3<B> {
         let z = S::<B>::zero();
         B::vec3(z, z, z)
     }
+    /// Euclidean norm.
     #[inline(always)]
     pub fn norm<B: Backend>(v: V3<B>) -> S<B> {
         B::dot(v, v).sqrt()
     }
+    /// The 3×3 identity.
     #[inline(always)]
     pub fn identity<B: Backend>() -> M3<B> {
         diag::<B>(S::<B>::one(), S::<B>::one(), S::<B>::one())
     }
+    /// Diagonal matrix `diag(a, b, c)`.
     #[inline(always)]
     pub fn diag<B: Backend>(a: S<B>, b: S<B>, c: S<B>) -> M3<B> {
         let z = S::<B>::zero();
@@ -135,18 +141,43 @@ pub(crate) mod ops {
         let [b0, b1, b2] = B::mat3_cols(b);
         B::dot(a0, b0) + B::dot(a1, b1) + B::dot(a2, b2)
     }
+    /// Frobenius norm.
     #[inline(always)]
     pub fn frob_norm<B: Backend>(a: M3<B>) -> S<B> {
         frob_dot::<B>(a, a).sqrt()
     }
+    /// True when no component is NaN or ±∞.
     #[inline(always)]
     pub fn is_finite_vec<B: Backend>(v: V3<B>) -> bool {
         let a = B::vec3_to_array(v);
         a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
     }
+    /// True when no element is NaN or ±∞.
     #[inline(always)]
     pub fn is_finite_mat<B: Backend>(m: M3<B>) -> bool {
         let [c0, c1, c2] = B::mat3_cols(m);
         is_finite_vec::<B>(c0) && is_finite_vec::<B>(c1) && is_finite_vec::<B>(c2)
+    }
+    /// Determinant.
+    #[inline(always)]
+    pub fn det<B: Backend>(m: M3<B>) -> S<B> {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        B::dot(c0, B::cross(c1, c2))
+    }
+    /// Inverse by cofactors, `None` when the determinant is zero or not
+    /// finite. Cofactors (cross products of columns) keep it branch-free and
+    /// exact enough for the well-conditioned 3×3 systems met here (inertia
+    /// matrices, Newton Jacobians); it is not a substitute for a pivoted
+    /// solve on ill-conditioned matrices.
+    #[inline(always)]
+    pub fn inverse<B: Backend>(m: M3<B>) -> Option<M3<B>> {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        let d = B::dot(c0, B::cross(c1, c2));
+        if d == S::<B>::zero() || !d.is_finite() {
+            return None;
+        }
+        // Rows of the inverse are the cross products of the columns over det.
+        let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
+        Some(B::mat3_transpose(cof) * (S::<B>::one() / d))
     }
 }

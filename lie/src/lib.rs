@@ -86,7 +86,7 @@ mod se3;
 pub mod series;
 pub mod so3;
 
-pub use backend::{Backend, M3, S, V3};
+pub use backend::{Backend, M3, S, V3, ops};
 #[cfg(feature = "glam")]
 pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]

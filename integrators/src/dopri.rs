@@ -1,0 +1,310 @@
+//! Adaptive embedded Dormand–Prince 5(4) on the embedding, for reference
+//! solutions.
+
+use lie::num_traits::{Float, Zero};
+use lie::{Backend, Real, S, ops};
+
+use crate::rk::{Body, Deriv, check_h, combine, eval, finish};
+use crate::{Integrator, State, StepError, StepStats, System};
+
+// Dormand & Prince (1980), the 5th-order weights (= last stage row) and the
+// difference 5th − 4th for the error estimate.
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A2: [f64; 1] = [0.2];
+const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+const A5: [f64; 4] = [
+    19372.0 / 6561.0,
+    -25360.0 / 2187.0,
+    64448.0 / 6561.0,
+    -212.0 / 729.0,
+];
+const A6: [f64; 5] = [
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
+];
+const B5: [f64; 6] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+];
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+
+/// Dormand–Prince 5(4) with step-size control, advancing the embedding (R as
+/// nine numbers, not projected, so that the reference is a plain ODE
+/// solution whose error is set by the tolerance alone).
+///
+/// [`Integrator::step`] integrates exactly from `t` to `t + h` (the last
+/// substep is shortened to land on `t + h`), taking as many internal
+/// substeps as the tolerance needs; the last accepted substep size is kept
+/// as the next call's first guess. The error of a substep is the RMS over
+/// all components of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`, accepted
+/// when ≤ 1; the controller is `h ← h·clamp(0.9 err^(−1/5), 0.2, 5)`.
+/// Tolerances below `100 ε` of the scalar type are raised to it (f32 cannot
+/// deliver 1e-12).
+#[derive(Clone, Debug)]
+pub struct Dopri<B: Backend> {
+    rtol: S<B>,
+    atol: S<B>,
+    h_next: Option<S<B>>,
+}
+
+impl<B: Backend> Dopri<B> {
+    /// Relative and absolute tolerance `tol` (> 0).
+    pub fn new(tol: S<B>) -> Self {
+        let floor = S::<B>::epsilon() * S::<B>::lit(100.0);
+        let tol = if Float::is_finite(tol) && tol > floor {
+            tol
+        } else {
+            floor
+        };
+        Self {
+            rtol: tol,
+            atol: tol,
+            h_next: None,
+        }
+    }
+
+    /// The tolerance in use (after the floor).
+    pub fn tolerance(&self) -> S<B> {
+        self.rtol
+    }
+
+    fn error_norm<const N: usize>(
+        &self,
+        body: &Body<B>,
+        y: &State<B, N>,
+        next: &State<B, N>,
+        err: &State<B, N>,
+    ) -> S<B> {
+        let mut sum = S::<B>::zero();
+        let mut count = 0usize;
+        let mut add = |e: S<B>, a: S<B>, b: S<B>| {
+            let sc = self.atol + self.rtol * a.abs().max(b.abs());
+            let r = e / sc;
+            sum = sum + r * r;
+            count += 1;
+        };
+        let (ey, en, ee) = (
+            ops::elems::<B>(y.body.r),
+            ops::elems::<B>(next.body.r),
+            ops::elems::<B>(err.body.r),
+        );
+        for i in 0..3 {
+            for k in 0..3 {
+                add(ee[i][k], ey[i][k], en[i][k]);
+            }
+        }
+        let mut vecs = |a: lie::V3<B>, b: lie::V3<B>, e: lie::V3<B>| {
+            let (a, b, e) = (
+                B::vec3_to_array(a),
+                B::vec3_to_array(b),
+                B::vec3_to_array(e),
+            );
+            for i in 0..3 {
+                add(e[i], a[i], b[i]);
+            }
+        };
+        vecs(y.body.omega, next.body.omega, err.body.omega);
+        if body.translates {
+            vecs(y.body.x, next.body.x, err.body.x);
+            vecs(y.body.v, next.body.v, err.body.v);
+        }
+        for i in 0..N {
+            add(err.extra[i], y.extra[i], next.extra[i]);
+        }
+        (sum / S::<B>::lit(count as f64)).sqrt()
+    }
+}
+
+impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
+    fn name(&self) -> &'static str {
+        "dopri"
+    }
+    fn order(&self) -> u32 {
+        5
+    }
+    fn step<Sys: System<B, N> + ?Sized>(
+        &mut self,
+        sys: &mut Sys,
+        t: S<B>,
+        h: S<B>,
+        y: &mut State<B, N>,
+    ) -> Result<StepStats, StepError> {
+        check_h::<B>(h)?;
+        let l = S::<B>::lit;
+        let body = Body::of(sys);
+        let t_end = t + h;
+        let mut stats = StepStats::default();
+        let mut cur = *y;
+        let mut tc = t;
+        let mut hs = self.h_next.unwrap_or(h).min(h);
+        let mut k1 = body.deriv(&cur, &eval(sys, tc, &cur)?);
+        stats.evaluations += 1;
+        let zero_state = {
+            let mut z = cur;
+            z.body.r = z.body.r * S::<B>::zero();
+            z.body.x = z.body.x * S::<B>::zero();
+            z.body.v = z.body.v * S::<B>::zero();
+            z.body.omega = z.body.omega * S::<B>::zero();
+            z.extra = [S::<B>::zero(); N];
+            z
+        };
+        loop {
+            let remaining = t_end - tc;
+            let last = hs >= remaining * l(1.0 - 1e-12);
+            if last {
+                hs = remaining;
+            }
+            let stage = |sys: &mut Sys,
+                         c: f64,
+                         ys: State<B, N>,
+                         stats: &mut StepStats|
+             -> Result<Deriv<B, N>, StepError> {
+                stats.evaluations += 1;
+                Ok(body.deriv(&ys, &eval(sys, tc + hs * l(c), &ys)?))
+            };
+            let k2 = stage(
+                sys,
+                C[1],
+                combine(&body, &cur, hs, [(l(A2[0]), &k1)]),
+                &mut stats,
+            )?;
+            let k3 = stage(
+                sys,
+                C[2],
+                combine(&body, &cur, hs, [(l(A3[0]), &k1), (l(A3[1]), &k2)]),
+                &mut stats,
+            )?;
+            let k4 = stage(
+                sys,
+                C[3],
+                combine(
+                    &body,
+                    &cur,
+                    hs,
+                    [(l(A4[0]), &k1), (l(A4[1]), &k2), (l(A4[2]), &k3)],
+                ),
+                &mut stats,
+            )?;
+            let k5 = stage(
+                sys,
+                C[4],
+                combine(
+                    &body,
+                    &cur,
+                    hs,
+                    [
+                        (l(A5[0]), &k1),
+                        (l(A5[1]), &k2),
+                        (l(A5[2]), &k3),
+                        (l(A5[3]), &k4),
+                    ],
+                ),
+                &mut stats,
+            )?;
+            let k6 = stage(
+                sys,
+                C[5],
+                combine(
+                    &body,
+                    &cur,
+                    hs,
+                    [
+                        (l(A6[0]), &k1),
+                        (l(A6[1]), &k2),
+                        (l(A6[2]), &k3),
+                        (l(A6[3]), &k4),
+                        (l(A6[4]), &k5),
+                    ],
+                ),
+                &mut stats,
+            )?;
+            let next = combine(
+                &body,
+                &cur,
+                hs,
+                [
+                    (l(B5[0]), &k1),
+                    (l(B5[2]), &k3),
+                    (l(B5[3]), &k4),
+                    (l(B5[4]), &k5),
+                    (l(B5[5]), &k6),
+                ],
+            );
+            let k7 = stage(sys, C[6], next, &mut stats)?;
+            let err = combine(
+                &body,
+                &zero_state,
+                hs,
+                [
+                    (l(E[0]), &k1),
+                    (l(E[2]), &k3),
+                    (l(E[3]), &k4),
+                    (l(E[4]), &k5),
+                    (l(E[5]), &k6),
+                    (l(E[6]), &k7),
+                ],
+            );
+            let en = self.error_norm(&body, &cur, &next, &err);
+            if !Float::is_finite(en) {
+                return Err(StepError::NonFinite {
+                    field: "dopri error estimate",
+                    t: tc.to_f64_lossless(),
+                });
+            }
+            let fac = if en == S::<B>::zero() {
+                l(5.0)
+            } else {
+                (l(0.9) * en.powf(l(-0.2))).max(l(0.2)).min(l(5.0))
+            };
+            if en <= S::<B>::one() {
+                stats.substeps += 1;
+                cur = next;
+                k1 = k7;
+                if last {
+                    break;
+                }
+                tc = tc + hs;
+                // The next guess: controlled size, but not beyond the end.
+                if !last {
+                    self.h_next = Some(hs * fac);
+                }
+                hs = hs * fac;
+            } else {
+                stats.rejected += 1;
+                hs = hs * fac.min(S::<B>::one());
+            }
+            if hs <= (tc.abs() + h) * S::<B>::epsilon() * l(16.0) {
+                return Err(StepError::StepTooSmall {
+                    t: tc.to_f64_lossless(),
+                    h: hs.to_f64_lossless(),
+                });
+            }
+        }
+        // A shortened last substep says nothing about the controlled size;
+        // keep the last unshortened proposal.
+        if self.h_next.is_none() {
+            self.h_next = Some(hs);
+        }
+        finish(t, y, cur)?;
+        Ok(stats)
+    }
+    fn reset(&mut self) {}
+}
+
+use lie::num_traits::One;

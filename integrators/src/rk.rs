@@ -1,0 +1,313 @@
+//! Explicit Runge–Kutta steppers: Euler and RK4 on the embedding (R as nine
+//! numbers), RKMK4 on the group.
+
+use lie::num_traits::Zero;
+use lie::{Backend, M3, Real, Rotation, S, So3Mat, V3, hat, right_jacobian_inv};
+
+use crate::{Integrator, Load, State, StepError, StepStats, System};
+
+/// Time derivative of a state on the embedding.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Deriv<B: Backend, const N: usize> {
+    pub r: M3<B>,
+    pub x: V3<B>,
+    pub v: V3<B>,
+    pub w: V3<B>,
+    pub e: [S<B>; N],
+}
+
+/// Body constants a step needs, read once per step.
+#[derive(Copy, Clone)]
+pub(crate) struct Body<B: Backend> {
+    pub j: M3<B>,
+    pub j_inv: M3<B>,
+    pub inv_mass: S<B>,
+    pub translates: bool,
+}
+
+impl<B: Backend> Body<B> {
+    pub fn of<Sys: System<B, N> + ?Sized, const N: usize>(sys: &Sys) -> Self {
+        Self {
+            j: sys.inertia(),
+            j_inv: sys.inertia_inv(),
+            inv_mass: S::<B>::lit(1.0) / sys.mass(),
+            translates: sys.translates(),
+        }
+    }
+
+    /// `Ω̇ = J⁻¹(M − Ω × JΩ)`.
+    #[inline(always)]
+    pub fn omega_dot(&self, w: V3<B>, moment: V3<B>) -> V3<B> {
+        self.j_inv * (moment - B::cross(w, self.j * w))
+    }
+
+    #[inline(always)]
+    pub fn deriv<const N: usize>(&self, y: &State<B, N>, l: &Load<B, N>) -> Deriv<B, N> {
+        let b = &y.body;
+        Deriv {
+            r: b.r * hat::<B>(b.omega),
+            x: b.v,
+            v: l.force * self.inv_mass,
+            w: self.omega_dot(b.omega, l.moment),
+            e: l.extra_rate,
+        }
+    }
+}
+
+/// Evaluates the load, checking it is finite.
+#[inline(always)]
+pub(crate) fn eval<B: Backend, Sys: System<B, N> + ?Sized, const N: usize>(
+    sys: &mut Sys,
+    t: S<B>,
+    y: &State<B, N>,
+) -> Result<Load<B, N>, StepError> {
+    let l = sys.load(t, y);
+    if !l.is_finite() {
+        return Err(StepError::NonFinite {
+            field: "load",
+            t: t.to_f64_lossless(),
+        });
+    }
+    Ok(l)
+}
+
+/// `y + h Σ c_i k_i` on the embedding (R included); `x`, `v` untouched when
+/// the body does not translate.
+#[inline(always)]
+pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
+    body: &Body<B>,
+    y: &State<B, N>,
+    h: S<B>,
+    terms: [(S<B>, &Deriv<B, N>); K],
+) -> State<B, N> {
+    let mut out = *y;
+    let mut dr = terms[0].1.r * (terms[0].0 * h);
+    let mut dw = terms[0].1.w * (terms[0].0 * h);
+    for (c, k) in &terms[1..] {
+        dr = dr + k.r * (*c * h);
+        dw = dw + k.w * (*c * h);
+    }
+    out.body.r = y.body.r + dr;
+    out.body.omega = y.body.omega + dw;
+    if body.translates {
+        let mut dx = terms[0].1.x * (terms[0].0 * h);
+        let mut dv = terms[0].1.v * (terms[0].0 * h);
+        for (c, k) in &terms[1..] {
+            dx = dx + k.x * (*c * h);
+            dv = dv + k.v * (*c * h);
+        }
+        out.body.x = y.body.x + dx;
+        out.body.v = y.body.v + dv;
+    }
+    for i in 0..N {
+        let mut de = S::<B>::zero();
+        for (c, k) in &terms {
+            de = de + *c * k.e[i];
+        }
+        out.extra[i] = y.extra[i] + h * de;
+    }
+    out
+}
+
+pub(crate) fn check_h<B: Backend>(h: S<B>) -> Result<(), StepError> {
+    if !(lie::num_traits::Float::is_finite(h) && h > S::<B>::zero()) {
+        return Err(StepError::InvalidStep {
+            h: h.to_f64_lossless(),
+        });
+    }
+    Ok(())
+}
+
+pub(crate) fn finish<B: Backend, const N: usize>(
+    t: S<B>,
+    y: &mut State<B, N>,
+    next: State<B, N>,
+) -> Result<(), StepError> {
+    if let Some(field) = next.non_finite_field() {
+        return Err(StepError::NonFinite {
+            field,
+            t: t.to_f64_lossless(),
+        });
+    }
+    *y = next;
+    Ok(())
+}
+
+fn project<B: Backend, const N: usize>(t: S<B>, y: &mut State<B, N>) -> Result<(), StepError> {
+    y.body.r = So3Mat::<B>::project(y.body.r)
+        .map_err(|_| StepError::NonFinite {
+            field: "r (projection onto SO(3) failed)",
+            t: t.to_f64_lossless(),
+        })?
+        .matrix();
+    Ok(())
+}
+
+/// Explicit Euler on the embedding, the first-order baseline. With
+/// `projected`, R is projected back onto SO(3) after each step.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Euler {
+    /// Project R onto SO(3) after each step.
+    pub projected: bool,
+}
+
+impl<B: Backend, const N: usize> Integrator<B, N> for Euler {
+    fn name(&self) -> &'static str {
+        "euler"
+    }
+    fn order(&self) -> u32 {
+        1
+    }
+    fn step<Sys: System<B, N> + ?Sized>(
+        &mut self,
+        sys: &mut Sys,
+        t: S<B>,
+        h: S<B>,
+        y: &mut State<B, N>,
+    ) -> Result<StepStats, StepError> {
+        check_h::<B>(h)?;
+        let body = Body::of(sys);
+        let k1 = body.deriv(y, &eval(sys, t, y)?);
+        let mut next = combine(&body, y, h, [(S::<B>::lit(1.0), &k1)]);
+        if self.projected {
+            project(t, &mut next)?;
+        }
+        finish(t, y, next)?;
+        Ok(StepStats {
+            evaluations: 1,
+            substeps: 1,
+            ..Default::default()
+        })
+    }
+}
+
+/// Classical RK4 on the embedding: R is advanced as nine numbers, so it
+/// leaves SO(3) by `O(h⁵)` per step unless `projected` (polar projection,
+/// [`So3Mat::project`], after each step).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Rk4 {
+    /// Project R onto SO(3) after each step.
+    pub projected: bool,
+}
+
+impl Rk4 {
+    /// RK4 with projection after each step.
+    pub fn projected() -> Self {
+        Self { projected: true }
+    }
+}
+
+impl<B: Backend, const N: usize> Integrator<B, N> for Rk4 {
+    fn name(&self) -> &'static str {
+        if self.projected {
+            "rk4-projected"
+        } else {
+            "rk4"
+        }
+    }
+    fn order(&self) -> u32 {
+        4
+    }
+    fn step<Sys: System<B, N> + ?Sized>(
+        &mut self,
+        sys: &mut Sys,
+        t: S<B>,
+        h: S<B>,
+        y: &mut State<B, N>,
+    ) -> Result<StepStats, StepError> {
+        check_h::<B>(h)?;
+        let l = S::<B>::lit;
+        let body = Body::of(sys);
+        let half = h * l(0.5);
+        let k1 = body.deriv(y, &eval(sys, t, y)?);
+        let y2 = combine(&body, y, h, [(l(0.5), &k1)]);
+        let k2 = body.deriv(&y2, &eval(sys, t + half, &y2)?);
+        let y3 = combine(&body, y, h, [(l(0.5), &k2)]);
+        let k3 = body.deriv(&y3, &eval(sys, t + half, &y3)?);
+        let y4 = combine(&body, y, h, [(l(1.0), &k3)]);
+        let k4 = body.deriv(&y4, &eval(sys, t + h, &y4)?);
+        let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
+        let mut next = combine(
+            &body,
+            y,
+            h,
+            [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
+        );
+        if self.projected {
+            project(t, &mut next)?;
+        }
+        finish(t, y, next)?;
+        Ok(StepStats {
+            evaluations: 4,
+            substeps: 1,
+            ..Default::default()
+        })
+    }
+}
+
+/// Runge–Kutta–Munthe-Kaas of order 4 on SO(3) × Rⁿ (right form
+/// `Ṙ = RΩ^`): the attitude is `R_k exp(u)` with `u` integrated by classical
+/// RK4 from `u̇ = dexp⁻¹_{−u}(Ω) = J_r⁻¹(u) Ω`, `u(0) = 0`; the stages are
+/// evaluated at `R_k exp(u_i)`. The vector part uses the same tableau. R
+/// stays on SO(3) to rounding (one exp per stage).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Rkmk4;
+
+impl<B: Backend, const N: usize> Integrator<B, N> for Rkmk4 {
+    fn name(&self) -> &'static str {
+        "rkmk4"
+    }
+    fn order(&self) -> u32 {
+        4
+    }
+    fn step<Sys: System<B, N> + ?Sized>(
+        &mut self,
+        sys: &mut Sys,
+        t: S<B>,
+        h: S<B>,
+        y: &mut State<B, N>,
+    ) -> Result<StepStats, StepError> {
+        check_h::<B>(h)?;
+        let l = S::<B>::lit;
+        let body = Body::of(sys);
+        let half = h * l(0.5);
+        let r0 = So3Mat::<B>::from_matrix_unchecked(y.body.r);
+        // Stage i: vector part by the RK4 tableau, attitude R0 exp(u_i),
+        // algebra slope k_i = J_r⁻¹(u_i) Ω_i.
+        let at = |u: V3<B>, mut s: State<B, N>| {
+            s.body.r = (r0 * So3Mat::<B>::exp(u)).matrix();
+            s
+        };
+        let k1 = body.deriv(y, &eval(sys, t, y)?);
+        let a1 = y.body.omega;
+        let u2 = a1 * half;
+        let y2 = at(u2, combine(&body, y, h, [(l(0.5), &k1)]));
+        let k2 = body.deriv(&y2, &eval(sys, t + half, &y2)?);
+        let a2 = right_jacobian_inv::<B>(u2) * y2.body.omega;
+        let u3 = a2 * half;
+        let y3 = at(u3, combine(&body, y, h, [(l(0.5), &k2)]));
+        let k3 = body.deriv(&y3, &eval(sys, t + half, &y3)?);
+        let a3 = right_jacobian_inv::<B>(u3) * y3.body.omega;
+        let u4 = a3 * h;
+        let y4 = at(u4, combine(&body, y, h, [(l(1.0), &k3)]));
+        let k4 = body.deriv(&y4, &eval(sys, t + h, &y4)?);
+        let a4 = right_jacobian_inv::<B>(u4) * y4.body.omega;
+        let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
+        let u = (a1 * sixth + a2 * third + a3 * third + a4 * sixth) * h;
+        let next = at(
+            u,
+            combine(
+                &body,
+                y,
+                h,
+                [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
+            ),
+        );
+        finish(t, y, next)?;
+        Ok(StepStats {
+            evaluations: 4,
+            substeps: 1,
+            ..Default::default()
+        })
+    }
+}

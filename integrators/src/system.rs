@@ -1,0 +1,142 @@
+//! The state and the system an integrator advances.
+
+use dynamics::{RigidBodyState, Vehicle, Wrench, loads};
+use lie::num_traits::Zero;
+use lie::{Backend, M3, S, V3, ops};
+
+/// A rigid body plus `N` extra scalar states (integral terms of a
+/// controller, say), advanced together.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct State<B: Backend, const N: usize> {
+    /// Attitude, position, velocity, angular velocity.
+    pub body: RigidBodyState<B>,
+    /// Extra states.
+    pub extra: [S<B>; N],
+}
+
+impl<B: Backend, const N: usize> State<B, N> {
+    /// A body state with the extra states at zero.
+    pub fn new(body: RigidBodyState<B>) -> Self {
+        Self {
+            body,
+            extra: [S::<B>::zero(); N],
+        }
+    }
+
+    pub(crate) fn non_finite_field(&self) -> Option<&'static str> {
+        if let Some(f) = self.body.non_finite_field() {
+            return Some(f);
+        }
+        if self
+            .extra
+            .iter()
+            .any(|e| !lie::num_traits::Float::is_finite(*e))
+        {
+            return Some("extra");
+        }
+        None
+    }
+}
+
+/// What a system exerts at a state: total inertial force (gravity, thrust,
+/// disturbance), body moment without the gyroscopic term, and the extra
+/// states' rates.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Load<B: Backend, const N: usize> {
+    /// Inertial-frame force, N.
+    pub force: V3<B>,
+    /// Body-frame moment, N m (everything except `−Ω × JΩ`).
+    pub moment: V3<B>,
+    /// Time derivatives of the extra states.
+    pub extra_rate: [S<B>; N],
+}
+
+impl<B: Backend, const N: usize> Load<B, N> {
+    pub(crate) fn is_finite(&self) -> bool {
+        ops::is_finite_vec::<B>(self.force)
+            && ops::is_finite_vec::<B>(self.moment)
+            && self
+                .extra_rate
+                .iter()
+                .all(|e| lie::num_traits::Float::is_finite(*e))
+    }
+}
+
+/// A rigid body with loads: what every integrator advances.
+///
+/// The equations are `Ṙ = RΩ^`, `ẋ = v`, `m v̇ = force`,
+/// `J Ω̇ = moment − Ω × JΩ`, `ė = extra_rate`; when [`System::translates`]
+/// is false, `x` and `v` are left alone and cost nothing.
+pub trait System<B: Backend, const N: usize> {
+    /// Mass, kg.
+    fn mass(&self) -> S<B>;
+    /// Inertia, body frame.
+    fn inertia(&self) -> M3<B>;
+    /// `J⁻¹`; override to return a cached value (the default inverts
+    /// `inertia()` on every call).
+    fn inertia_inv(&self) -> M3<B> {
+        ops::inverse::<B>(self.inertia()).unwrap_or_else(ops::identity::<B>)
+    }
+    /// Whether `x` and `v` are integrated.
+    fn translates(&self) -> bool {
+        true
+    }
+    /// Whether [`System::load`] reads `v`, `Ω` or the extra states (feedback
+    /// control does). If not, the LGVI evaluates its end-point load once
+    /// instead of iterating.
+    fn load_depends_on_rates(&self) -> bool {
+        true
+    }
+    /// Loads at time `t` and state `y`.
+    fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N>;
+}
+
+/// A vehicle under a fixed commanded wrench (zero for an unactuated body):
+/// the open-loop [`System`] with no extra states.
+pub struct OpenLoop<'a, B: Backend> {
+    vehicle: &'a dyn Vehicle<B>,
+    /// The commanded wrench, held.
+    pub wrench: Wrench<B>,
+    inertia: M3<B>,
+    inertia_inv: M3<B>,
+}
+
+impl<'a, B: Backend> OpenLoop<'a, B> {
+    /// `vehicle` with wrench `wrench`. The inertia was validated when the
+    /// vehicle was built, so its inverse exists.
+    pub fn new(vehicle: &'a dyn Vehicle<B>, wrench: Wrench<B>) -> Self {
+        let inertia = vehicle.inertia();
+        Self {
+            vehicle,
+            wrench,
+            inertia,
+            inertia_inv: ops::inverse::<B>(inertia).unwrap_or_else(ops::identity::<B>),
+        }
+    }
+}
+
+impl<B: Backend> System<B, 0> for OpenLoop<'_, B> {
+    fn mass(&self) -> S<B> {
+        self.vehicle.mass()
+    }
+    fn inertia(&self) -> M3<B> {
+        self.inertia
+    }
+    fn inertia_inv(&self) -> M3<B> {
+        self.inertia_inv
+    }
+    fn translates(&self) -> bool {
+        self.vehicle.translates()
+    }
+    fn load_depends_on_rates(&self) -> bool {
+        self.vehicle.rate_dependent_loads()
+    }
+    fn load(&mut self, t: S<B>, y: &State<B, 0>) -> Load<B, 0> {
+        let l = loads(self.vehicle, t, &y.body, &self.wrench);
+        Load {
+            force: l.force,
+            moment: l.moment,
+            extra_rate: [],
+        }
+    }
+}
