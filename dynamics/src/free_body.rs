@@ -276,6 +276,7 @@ pub fn complete_k(m: f64) -> f64 {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)] // index notation mirrors the formulas
 mod tests {
     use super::*;
 
@@ -311,7 +312,7 @@ mod tests {
                 [
                     0.166_789_565_822_980_75,
                     -0.985_992_515_556_067_3,
-                    0.995_352_741_616_857_1,
+                    0.995_352_741_616_857,
                 ],
             ),
             (

@@ -96,7 +96,7 @@ impl<B: Backend> Dopri<B> {
         let mut add = |e: S<B>, a: S<B>, b: S<B>| {
             let sc = self.atol + self.rtol * a.abs().max(b.abs());
             let r = e / sc;
-            sum = sum + r * r;
+            sum += r * r;
             count += 1;
         };
         let (ey, en, ee) = (
@@ -279,15 +279,15 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
                 if last {
                     break;
                 }
-                tc = tc + hs;
+                tc += hs;
                 // The next guess: controlled size, but not beyond the end.
                 if !last {
                     self.h_next = Some(hs * fac);
                 }
-                hs = hs * fac;
+                hs *= fac;
             } else {
                 stats.rejected += 1;
-                hs = hs * fac.min(S::<B>::one());
+                hs *= fac.min(S::<B>::one());
             }
             if hs <= (tc.abs() + h) * S::<B>::epsilon() * l(16.0) {
                 return Err(StepError::StepTooSmall {

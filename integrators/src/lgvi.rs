@@ -150,11 +150,17 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
     }
 }
 
-/// `cay(f) = I + 2/(1 + fᵀf) (f^ + f^²)`.
-pub(crate) fn cayley<B: Backend>(f: V3<B>) -> M3<B> {
+/// `cay(f) − I = 2/(1 + fᵀf) (f^ + f^²)`.
+pub(crate) fn cayley_minus_identity<B: Backend>(f: V3<B>) -> M3<B> {
     let fh = hat::<B>(f);
     let c = S::<B>::lit(2.0) / (S::<B>::one() + B::dot(f, f));
-    ops::identity::<B>() + (fh + fh * fh) * c
+    (fh + fh * fh) * c
+}
+
+/// `cay(f) = I + 2/(1 + fᵀf) (f^ + f^²)`.
+#[cfg(test)]
+pub(crate) fn cayley<B: Backend>(f: V3<B>) -> M3<B> {
+    ops::identity::<B>() + cayley_minus_identity::<B>(f)
 }
 
 impl<B: Backend, const N: usize> Lgvi<B, N> {
@@ -180,9 +186,12 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         let p = body.j * b.omega + l0.moment * half_h;
         let a = p * h;
         let sol = solve_cayley::<B>(body.j, a, self.max_newton);
-        stats.newton_iterations = stats.newton_iterations.max(sol.iterations);
-        stats.residual = stats.residual.max(sol.residual.to_f64_lossless());
-        if !sol.converged {
+        if sol.converged {
+            // Only accepted solves count; a failed attempt that was then
+            // halved is visible in `substeps`.
+            stats.newton_iterations = stats.newton_iterations.max(sol.iterations);
+            stats.residual = stats.residual.max(sol.residual.to_f64_lossless());
+        } else {
             return Err(StepError::NoSolution {
                 t: t.to_f64_lossless(),
                 h: h.to_f64_lossless(),
@@ -191,15 +200,24 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
                 residual: sol.residual.to_f64_lossless(),
             });
         }
-        let f_mat = cayley::<B>(sol.f);
-        let ftp = B::mat3_tr_mul_vec(f_mat, p);
+        // Increment form: D = F − I = c(f^ + f^²) is formed without adding
+        // it to I, and R, JΩ are updated as `R + R D`, `Ω + J⁻¹(Dᵀp + …)`.
+        // Forming F = I + D and recomputing JΩ = Fᵀp from scratch each step
+        // makes the rounding of consecutive steps correlated (F barely
+        // changes), and it then accumulates linearly: measured on the free
+        // body, |ΔE/E| after 10⁵ steps fell from 6.3e-3 to the values in the
+        // README table (f32), ‖RᵀR − I‖ likewise.
+        let d_mat = cayley_minus_identity::<B>(sol.f);
+        let dtp = B::mat3_tr_mul_vec(d_mat, p);
         let mut next = *y;
-        next.body.r = b.r * f_mat;
+        next.body.r = b.r + b.r * d_mat;
         if body.translates {
             next.body.x = b.x + b.v * h + l0.force * (h * half_h * body.inv_mass);
             next.body.v = b.v + l0.force * (h * body.inv_mass);
         }
-        next.body.omega = body.j_inv * (ftp + l0.moment * half_h);
+        // JΩ_{k+1} = Fᵀp + h/2 M_{k+1} = JΩ_k + Dᵀp + h/2 (M_k + M_{k+1}).
+        let omega_from = |m_end: V3<B>| b.omega + body.j_inv * (dtp + (l0.moment + m_end) * half_h);
+        next.body.omega = omega_from(l0.moment);
         for i in 0..N {
             next.extra[i] = y.extra[i] + h * l0.extra_rate[i];
         }
@@ -214,7 +232,7 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         for _ in 0..passes {
             stats.evaluations += 1;
             l1 = eval(sys, t + h, &next)?;
-            let w = body.j_inv * (ftp + l1.moment * half_h);
+            let w = omega_from(l1.moment);
             let mut change =
                 inf_norm::<B>(w - next.body.omega) / (S::<B>::one() + inf_norm::<B>(w));
             next.body.omega = w;
@@ -247,6 +265,7 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         Ok(next)
     }
 
+    #[allow(clippy::too_many_arguments)] // private recursion helper
     fn advance<Sys: System<B, N> + ?Sized>(
         &mut self,
         sys: &mut Sys,

@@ -102,7 +102,7 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
     for i in 0..N {
         let mut de = S::<B>::zero();
         for (c, k) in &terms {
-            de = de + *c * k.e[i];
+            de += *c * k.e[i];
         }
         out.extra[i] = y.extra[i] + h * de;
     }

@@ -6,8 +6,13 @@
 //! * `features` — checks that `lie` builds in every feature combination the
 //!   README promises: each backend alone, both, and `no_std` with `libm`.
 //!
+//! * `conservation [--steps N]` — the free-body invariant table (energy and
+//!   orthogonality after 10⁵ and N steps, every stepper, f32 and f64).
+//!
 //! Scenario commands (`run`, `regress`, `bench`, `stress`) arrive with the
 //! `scenarios` crate.
+
+mod conservation;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -18,6 +23,7 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("bench-table") => bench_table(),
         Some("features") => features(),
+        Some("conservation") => conservation::conservation(&args[1..]),
         Some(other) => Err(format!("unknown command `{other}`\n{USAGE}")),
         None => Err(USAGE.to_string()),
     };
@@ -30,7 +36,7 @@ fn main() -> ExitCode {
     }
 }
 
-const USAGE: &str = "usage: cargo xtask <bench-table | features>";
+const USAGE: &str = "usage: cargo xtask <bench-table | features | conservation [--steps N]>";
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -3,9 +3,9 @@
 //! fitting.
 
 use dynamics::free_body::ExactFreeBody;
-use dynamics::{FreeRigidBody, RigidBodyState, Wrench};
+use dynamics::{FreeRigidBody, Wrench};
 use integrators::{Integrator, OpenLoop, State, integrate_fixed};
-use lie::{Backend, Real, Rotation, S, So3Mat, ops};
+use lie::{Backend, Real, S, ops};
 
 pub type M = [[f64; 3]; 3];
 
@@ -35,9 +35,9 @@ pub fn vec_dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// three components (so no closed-form shortcut hides an error).
 pub const OMEGA0: [f64; 3] = [0.4, -0.8, -1.1];
 
+/// R(0) of the shared free-body start.
 pub fn r0<B: Backend>() -> lie::M3<B> {
-    let l = S::<B>::lit;
-    So3Mat::<B>::exp(B::vec3(l(0.3), l(-0.5), l(0.2))).matrix()
+    integrators::problems::free_body_start::<B>().r
 }
 
 pub fn exact() -> ExactFreeBody {
@@ -50,11 +50,7 @@ pub fn exact() -> ExactFreeBody {
 }
 
 pub fn free_start<B: Backend>() -> State<B, 0> {
-    let l = S::<B>::lit;
-    let mut body = RigidBodyState::<B>::at_rest();
-    body.r = r0::<B>();
-    body.omega = B::vec3(l(OMEGA0[0]), l(OMEGA0[1]), l(OMEGA0[2]));
-    State::new(body)
+    State::new(integrators::problems::free_body_start::<B>())
 }
 
 /// Runs `n` steps to `t_end` on the free body and returns the final state.

@@ -1,0 +1,216 @@
+//! Vehicles: allocation and its inverse, limits, loads, the stand's gravity
+//! moment, parameter validation.
+#![allow(clippy::needless_range_loop)] // index notation mirrors the formulas
+
+use dynamics::{
+    AttitudeStand, DynamicsError, FreeRigidBody, Quadrotor, RigidBodyState, RotorLimits, Vehicle,
+    Wrench, loads,
+};
+use lie::{Backend, GlamF32, NalgebraF64, Real, Rotation, S, So3Mat, ops};
+
+type B = NalgebraF64;
+
+fn det4(m: [[f64; 4]; 4]) -> f64 {
+    // Laplace along the first row.
+    let minor = |c: usize| {
+        let mut s = [[0.0; 3]; 3];
+        for i in 0..3 {
+            let mut k = 0;
+            for j in 0..4 {
+                if j != c {
+                    s[i][k] = m[i + 1][j];
+                    k += 1;
+                }
+            }
+        }
+        s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1])
+            - s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0])
+            + s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0])
+    };
+    (0..4)
+        .map(|c| if c % 2 == 0 { 1.0 } else { -1.0 } * m[0][c] * minor(c))
+        .sum()
+}
+
+#[test]
+fn allocation_determinant_and_inverse() {
+    let q = Quadrotor::<B>::paper();
+    let (d, c) = (q.arm(), q.c_tau_f());
+    let det = det4(q.allocation());
+    // DESIGN.md: det = 8 c d²; the sign depends on row order, the size not.
+    assert!((det.abs() - 8.0 * c * d * d).abs() < 1e-15, "det {det}");
+    let mut rng = 0x1234_5678_u64;
+    let mut next = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng % 10_000) as f64 / 5_000.0 - 1.0
+    };
+    for _ in 0..1000 {
+        let w = Wrench::<B> {
+            thrust: 8.0 * next(),
+            moment: <B as Backend>::vec3(next(), next(), 0.1 * next()),
+        };
+        let mut f = [0.0; 4];
+        q.actuators_from_wrench(&w, &mut f).unwrap();
+        let back = q.wrench_from_actuators(&f).unwrap();
+        // Condition number of the allocation is ~ 1/c ≈ 76; 1e-13 is a few
+        // hundred ulp of the largest entry.
+        assert!((back.thrust - w.thrust).abs() < 1e-13);
+        assert!(ops::norm::<B>(back.moment - w.moment) < 1e-13);
+    }
+}
+
+#[test]
+fn rotor_limits_clamp_each_rotor() {
+    let q = Quadrotor::<B>::paper()
+        .with_rotor_limits(RotorLimits { min: 0.0, max: 3.0 })
+        .unwrap();
+    let w = Wrench::<B> {
+        thrust: 7.0,
+        moment: <B as Backend>::vec3(0.6, -0.2, 0.05),
+    };
+    let mut raw = [0.0; 4];
+    q.actuators_from_wrench(&w, &mut raw).unwrap();
+    assert!(
+        raw.iter().any(|&f| !(0.0..=3.0).contains(&f)),
+        "test needs saturation: {raw:?}"
+    );
+    let sat = q.saturate(w);
+    let mut f = [0.0; 4];
+    q.actuators_from_wrench(&sat, &mut f).unwrap();
+    for (fi, ri) in f.iter().zip(raw) {
+        assert!(
+            (*fi - ri.clamp(0.0, 3.0)).abs() < 1e-12,
+            "{f:?} vs clamp of {raw:?}"
+        );
+    }
+    // The paper's vehicle has none: saturate is the identity.
+    assert_eq!(Quadrotor::<B>::paper().saturate(w), w);
+    let bad = Quadrotor::<B>::paper().with_rotor_limits(RotorLimits { min: 2.0, max: 1.0 });
+    assert!(bad.unwrap_err().to_string().contains("rotor_limits"));
+}
+
+#[test]
+fn hover_loads_balance_and_disturbance_adds() {
+    let q = Quadrotor::<B>::paper();
+    let hover = Wrench::<B> {
+        thrust: q.mass() * q.gravity(),
+        moment: ops::zero::<B>(),
+    };
+    let s = RigidBodyState::<B>::at_rest();
+    let l = loads(&q, 0.0, &s, &hover);
+    assert!(ops::norm::<B>(l.force) < 1e-15 && ops::norm::<B>(l.moment) == 0.0);
+    let d = Quadrotor::<B>::paper_disturbance();
+    let qd = q.with_disturbance(d).unwrap();
+    let l = loads(&qd, 0.0, &s, &hover);
+    assert!(ops::norm::<B>(l.force - d.force) < 1e-15);
+    assert_eq!(l.moment, d.moment);
+    // Thrust acts along −R e3: rolled 90° about b1, it pushes along +e2·(…)
+    let mut rolled = s;
+    rolled.r =
+        So3Mat::<B>::exp(<B as Backend>::vec3(std::f64::consts::FRAC_PI_2, 0.0, 0.0)).matrix();
+    let l = loads(&q, 0.0, &rolled, &hover);
+    let expect = <B as Backend>::vec3(0.0, hover.thrust, q.mass() * q.gravity());
+    assert!(ops::norm::<B>(l.force - expect) < 1e-12, "{:?}", l.force);
+}
+
+#[test]
+fn stand_gravity_tips_the_body_over_and_it_cannot_translate() {
+    let stand = AttitudeStand::new(Quadrotor::<B>::paper(), 0.05).unwrap();
+    assert!(!stand.translates());
+    let (m, g, l) = (stand.mass(), stand.gravity(), 0.05);
+    for axis in [
+        <B as Backend>::vec3(1.0, 0.0, 0.0),
+        <B as Backend>::vec3(0.0, 1.0, 0.0),
+        <B as Backend>::vec3(0.6, 0.8, 0.0),
+    ] {
+        let tilt = 0.2;
+        let r = So3Mat::<B>::from_axis_angle(axis, tilt).matrix();
+        let mg = stand.gravity_moment(r);
+        // Inverted pendulum: the moment is along the tilt axis (it increases
+        // the tilt), of size m g l sin(tilt).
+        assert!(
+            (mg.dot(&axis) - m * g * l * tilt.sin()).abs() < 1e-14,
+            "{mg:?}"
+        );
+        let mut s = RigidBodyState::<B>::at_rest();
+        s.r = r;
+        let ld = loads(&stand, 0.0, &s, &Wrench::zero());
+        assert_eq!(ld.force, ops::zero::<B>());
+        assert!(ops::norm::<B>(ld.moment - mg) < 1e-15);
+    }
+    // Parallel-axis inertia: J + m l² diag(1, 1, 0).
+    let j = stand.inertia();
+    assert!((j[(0, 0)] - (0.43e-2 + m * l * l)).abs() < 1e-15);
+    assert!((j[(2, 2)] - 1.02e-2).abs() < 1e-15);
+    assert!(
+        AttitudeStand::new(Quadrotor::<B>::paper(), -1.0)
+            .unwrap_err()
+            .to_string()
+            .contains("height")
+    );
+}
+
+#[test]
+fn vehicles_are_usable_as_trait_objects() {
+    let fleet: Vec<Box<dyn Vehicle<B>>> = vec![
+        Box::new(Quadrotor::paper()),
+        Box::new(AttitudeStand::new(Quadrotor::paper(), 0.05).unwrap()),
+        Box::new(FreeRigidBody::diag123()),
+    ];
+    let names: Vec<&str> = fleet.iter().map(|v| v.name()).collect();
+    assert_eq!(names, ["quadrotor", "attitude-stand", "free-rigid-body"]);
+    let counts: Vec<usize> = fleet.iter().map(|v| v.actuator_count()).collect();
+    assert_eq!(counts, [4, 4, 0]);
+    let e = fleet[0].wrench_from_actuators(&[1.0, 2.0]).unwrap_err();
+    assert_eq!(
+        e,
+        DynamicsError::ActuatorCount {
+            expected: 4,
+            got: 2
+        }
+    );
+    assert!(e.to_string().contains("2 entries"));
+}
+
+#[test]
+fn bad_parameters_are_named_errors() {
+    let j = ops::diag::<B>(0.1, 0.1, 0.2);
+    let e = Quadrotor::<B>::new(-1.0, j, 9.81, 0.2, 0.01).unwrap_err();
+    assert!(e.to_string().contains("`mass` = -1"), "{e}");
+    let e = Quadrotor::<B>::new(1.0, ops::diag::<B>(0.1, -0.1, 0.2), 9.81, 0.2, 0.01).unwrap_err();
+    assert!(e.to_string().contains("inertia"), "{e}");
+    let e = Quadrotor::<B>::new(1.0, j, 9.81, 0.2, 0.0).unwrap_err();
+    assert!(e.to_string().contains("c_tau_f"), "{e}");
+    let e = Quadrotor::<B>::new(1.0, j, f64::NAN, 0.2, 0.01).unwrap_err();
+    assert!(e.to_string().contains("gravity"), "{e}");
+    let nan = dynamics::Disturbance::<B> {
+        force: <B as Backend>::vec3(f64::NAN, 0.0, 0.0),
+        moment: ops::zero::<B>(),
+    };
+    let e = Quadrotor::<B>::paper().with_disturbance(nan).unwrap_err();
+    assert!(e.to_string().contains("disturbance.force"), "{e}");
+}
+
+/// The same vehicle code in f32 on glam agrees with f64 on nalgebra.
+#[test]
+fn f32_glam_matches_f64() {
+    let q32 = Quadrotor::<GlamF32>::paper();
+    let q64 = Quadrotor::<B>::paper();
+    let w32 = Wrench::<GlamF32> {
+        thrust: 7.2,
+        moment: <GlamF32 as Backend>::vec3(0.1, -0.05, 0.01),
+    };
+    let w64 = Wrench::<B> {
+        thrust: 7.2,
+        moment: <B as Backend>::vec3(0.1, -0.05, 0.01),
+    };
+    let (mut a, mut b) = ([0.0f32; 4], [0.0f64; 4]);
+    q32.actuators_from_wrench(&w32, &mut a).unwrap();
+    q64.actuators_from_wrench(&w64, &mut b).unwrap();
+    for (x, y) in a.iter().zip(b) {
+        assert!((x.to_f64_lossless() - y).abs() < 1e-5 * (1.0 + y.abs()));
+    }
+    let _: S<GlamF32> = 0.0;
+}

@@ -1,0 +1,165 @@
+//! Convergence orders on the closed loop with continuous control: the
+//! paper's quadrotor with Δ_x, Δ_R under the geometric PID position
+//! controller tracking a smooth circle, integral states e_I, e_i integrated
+//! with the body (N = 6). Reference: Dormand–Prince at tol 1e-12.
+
+mod common;
+
+use common::*;
+use controllers::{
+    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
+    VehicleState, position_control,
+};
+use dynamics::{Quadrotor, RigidBodyState, Vehicle, Wrench, loads};
+use integrators::{
+    Dopri, Euler, Integrator, Lgvi, Load, Rk4, Rkmk4, State, System, integrate_fixed,
+};
+use lie::{Backend, M3, NalgebraF64, S, So3Mat, V3, ops};
+
+type B = NalgebraF64;
+
+struct ClosedLoop {
+    quad: Quadrotor<B>,
+    params: RigidBodyParams<B>,
+    pg: PositionGains<B>,
+    ag: AttitudeGains<B>,
+}
+
+/// x_d = (r cos wt, r sin wt, −1 + 0.2 sin wt): smooth, with every derivative
+/// up to snap in closed form.
+fn reference(t: f64) -> PositionReference<B> {
+    let (r, w) = (0.5, 1.5);
+    let (s, c) = (w * t).sin_cos();
+    let v3 = |x: f64, y: f64, z: f64| <B as Backend>::vec3(x, y, z);
+    let mut p = PositionReference::<B>::hold(v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0));
+    p.x = v3(r * c, r * s, -1.0 + 0.2 * s);
+    p.v = v3(-r * w * s, r * w * c, 0.2 * w * c);
+    p.a = v3(-r * w * w * c, -r * w * w * s, -0.2 * w * w * s);
+    p.jerk = v3(r * w.powi(3) * s, -r * w.powi(3) * c, -0.2 * w.powi(3) * c);
+    p.snap = v3(r * w.powi(4) * c, r * w.powi(4) * s, 0.2 * w.powi(4) * s);
+    p
+}
+
+fn split(e: &[f64; 6]) -> (V3<B>, V3<B>) {
+    (
+        <B as Backend>::vec3(e[0], e[1], e[2]),
+        <B as Backend>::vec3(e[3], e[4], e[5]),
+    )
+}
+
+impl System<B, 6> for ClosedLoop {
+    fn mass(&self) -> S<B> {
+        self.quad.mass()
+    }
+    fn inertia(&self) -> M3<B> {
+        self.quad.inertia()
+    }
+    fn load(&mut self, t: f64, y: &State<B, 6>) -> Load<B, 6> {
+        let (e_att, e_pos) = split(&y.extra);
+        let st = VehicleState::<B, So3Mat<B>> {
+            x: y.body.x,
+            v: y.body.v,
+            r: So3Mat::from_matrix_unchecked(y.body.r),
+            omega: y.body.omega,
+        };
+        let out = position_control(
+            &self.params,
+            &self.pg,
+            &self.ag,
+            &st,
+            e_pos,
+            e_att,
+            &reference(t),
+            AccelerationModel::Nominal,
+        )
+        .expect("finite");
+        let w = Wrench {
+            thrust: out.thrust,
+            moment: out.moment,
+        };
+        let l = loads(&self.quad, t, &y.body, &w);
+        let (a, p) = (out.e_i_att_rate, out.e_i_pos_rate);
+        Load {
+            force: l.force,
+            moment: l.moment,
+            extra_rate: [a[0], a[1], a[2], p[0], p[1], p[2]],
+        }
+    }
+}
+
+fn system() -> ClosedLoop {
+    ClosedLoop {
+        quad: Quadrotor::<B>::paper()
+            .with_disturbance(Quadrotor::<B>::paper_disturbance())
+            .unwrap(),
+        params: RigidBodyParams::paper(),
+        pg: PositionGains::paper(),
+        ag: AttitudeGains::paper(),
+    }
+}
+
+fn run<I: Integrator<B, 6>>(integ: &mut I, t_end: f64, n: usize) -> State<B, 6> {
+    let mut sys = system();
+    let mut y = State::<B, 6>::new(RigidBodyState::at_rest());
+    integrate_fixed(integ, &mut sys, 0.0, t_end / n as f64, n, &mut y).unwrap();
+    y
+}
+
+fn error(y: &State<B, 6>, r: &State<B, 6>) -> f64 {
+    let v = |a: V3<B>, b: V3<B>| ops::norm::<B>(a - b);
+    let mut e = state_error::<B, 6>(y, mat_f64::<B>(r.body.r), vec_f64::<B>(r.body.omega));
+    e = e.max(v(y.body.x, r.body.x)).max(v(y.body.v, r.body.v));
+    for k in 0..6 {
+        e = e.max((y.extra[k] - r.extra[k]).abs());
+    }
+    e
+}
+
+#[test]
+fn closed_loop_orders_with_continuous_control() {
+    let t_end = 2.0;
+    let mut reference = State::<B, 6>::new(RigidBodyState::at_rest());
+    let mut sys = system();
+    let mut dp = Dopri::<B>::new(1e-12);
+    for k in 0..20 {
+        dp.step(&mut sys, 0.1 * k as f64, 0.1, &mut reference)
+            .unwrap();
+    }
+    let mut out = format!(
+        "closed loop (paper quadrotor, Δ_x, Δ_R, PID tracking a circle), T = {t_end} s, error in (R, x, v, Ω, e_I, e_i) vs dopri(1e-12)\n"
+    );
+    let mut fit = |name: &str,
+                   expected: f64,
+                   ns: [usize; 3],
+                   f: &mut dyn FnMut(usize) -> State<B, 6>| {
+        let hs: Vec<f64> = ns.iter().map(|&n| t_end / n as f64).collect();
+        let errs: Vec<f64> = ns.iter().map(|&n| error(&f(n), &reference)).collect();
+        let p = fitted_order(&hs, &errs);
+        out += &format!(
+            "{name:<14} h = {:.3e} {:.3e} {:.3e}  err = {:.3e} {:.3e} {:.3e}  fitted order {p:.3} (expected {expected})\n",
+            hs[0], hs[1], hs[2], errs[0], errs[1], errs[2]
+        );
+        (name.to_string(), p, expected)
+    };
+    let results = [
+        fit("euler", 1.0, [4000, 8000, 16000], &mut |n| {
+            run(&mut Euler::default(), t_end, n)
+        }),
+        fit("lgvi", 2.0, [400, 800, 1600], &mut |n| {
+            run(&mut Lgvi::<B, 6>::default(), t_end, n)
+        }),
+        fit("rk4", 4.0, [200, 400, 800], &mut |n| {
+            run(&mut Rk4::default(), t_end, n)
+        }),
+        fit("rkmk4", 4.0, [200, 400, 800], &mut |n| {
+            run(&mut Rkmk4, t_end, n)
+        }),
+    ];
+    print!("{out}");
+    for (name, p, expected) in results {
+        assert!(
+            (p - expected).abs() <= 0.3,
+            "{name}: fitted {p:.3}, expected {expected}"
+        );
+    }
+}
