@@ -34,8 +34,8 @@ pub use mode_scheduler::{
     ThrustCommand,
 };
 pub use position_pid::{
-    AccelerationModel, Degeneracy, PositionGains, PositionOutput, PositionReference, VehicleState,
-    position_control, thrust_pd_projection,
+    AccelerationModel, Degeneracy, PositionGains, PositionOutput, PositionReference, SatBranch,
+    VehicleState, position_control, thrust_pd_projection,
 };
 
 use lie::{Backend, M3, Real, S};

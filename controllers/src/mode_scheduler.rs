@@ -107,6 +107,8 @@ pub struct ControlCommand<B: Backend, R: Rotation<B>> {
     pub moment: V3<B>,
     /// The desired attitude in use (`R_d` or `R_c`).
     pub desired: R,
+    /// Its angular velocity: `Ω_d` in attitude mode, `Ω_c` in position mode.
+    pub desired_omega: V3<B>,
     /// `Ψ` against it.
     pub psi: S<B>,
     /// `ė_I`.
@@ -202,6 +204,7 @@ impl<'a, B: Backend, R: Rotation<B>> Scheduler<'a, B, R> {
                     thrust: f,
                     moment: out.moment,
                     desired: r.rd,
+                    desired_omega: r.omega_d,
                     psi: out.psi,
                     e_att_rate: out.e_i_rate,
                     e_pos_rate: zero::<B>(),
@@ -224,6 +227,7 @@ impl<'a, B: Backend, R: Rotation<B>> Scheduler<'a, B, R> {
                     thrust: out.thrust,
                     moment: out.moment,
                     desired: out.rc,
+                    desired_omega: out.omega_c,
                     psi: out.psi,
                     e_att_rate: out.e_i_att_rate,
                     e_pos_rate: out.e_i_pos_rate,

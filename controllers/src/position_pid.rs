@@ -27,6 +27,24 @@ pub struct PositionGains<B: Backend> {
     /// already at `±σ` and pushing outward, so `e_i` itself stays in
     /// `[−σ, σ]` (clamped anti-windup).
     pub clamp_integral: bool,
+    /// Which branch `sat′` takes per component. [`SatBranch::Auto`] (the
+    /// default) decides from `e_i`; a simulation that has located a
+    /// crossing of `±σ` forces the branch of the side it is integrating, so
+    /// that stages landing a rounding error past the boundary do not pick
+    /// up the other side's `Ω_c` (a first-order error otherwise).
+    pub sat_branch: [SatBranch; 3],
+}
+
+/// Branch of `sat′_σ` for one component of `e_i`.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum SatBranch {
+    /// `1` for `|e| ≤ σ`, `0` outside.
+    #[default]
+    Auto,
+    /// `1`, whatever `e`.
+    Inside,
+    /// `0`, whatever `e`.
+    Outside,
 }
 
 impl<B: Backend> PositionGains<B> {
@@ -40,6 +58,7 @@ impl<B: Backend> PositionGains<B> {
             c1,
             sigma,
             clamp_integral: false,
+            sat_branch: [SatBranch::Auto; 3],
         }
     }
     /// The paper's gains: `k_x = 12.8, k_v = 4.22, k_i = 1.28, c1 = 3.6, σ = 1`.
@@ -173,13 +192,18 @@ pub struct PositionOutput<B: Backend, R: Rotation<B>> {
 }
 
 #[inline]
-fn sat_and_slope<B: Backend>(e: V3<B>, sigma: S<B>) -> (V3<B>, V3<B>) {
+fn sat_and_slope<B: Backend>(e: V3<B>, sigma: S<B>, branch: [SatBranch; 3]) -> (V3<B>, V3<B>) {
     let a = B::vec3_to_array(e);
     let (one, zero_) = (S::<B>::lit(1.0), S::<B>::lit(0.0));
     let s = a.map(|x| x.max(-sigma).min(sigma));
     // sat′ is 1 inside [−σ, σ] (the closed interval: the paper's cases) and
-    // 0 outside.
-    let d = a.map(|x| if x.abs() <= sigma { one } else { zero_ });
+    // 0 outside, unless a branch is forced.
+    let d = [0, 1, 2].map(|i| match branch[i] {
+        SatBranch::Auto if a[i].abs() <= sigma => one,
+        SatBranch::Auto => zero_,
+        SatBranch::Inside => one,
+        SatBranch::Outside => zero_,
+    });
     (B::vec3(s[0], s[1], s[2]), B::vec3(d[0], d[1], d[2]))
 }
 
@@ -276,7 +300,7 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
 
     let e_x = state.x - reference.x;
     let e_v = state.v - reference.v;
-    let (sat, slope) = sat_and_slope::<B>(e_i_pos, g_.sigma);
+    let (sat, slope) = sat_and_slope::<B>(e_i_pos, g_.sigma, g_.sat_branch);
     let mut ei_rate = e_v + e_x * g_.c1;
     if g_.clamp_integral {
         ei_rate = clamp_rate::<B>(e_i_pos, ei_rate, g_.sigma);

@@ -11,22 +11,9 @@ fn run<B: Backend>(kind: IntegratorKind, steps: usize) -> Result<InvariantTrace,
     free_body_invariants::<B, _>(&mut st, 0.01, steps, 10).map_err(|e| format!("{kind}: {e}"))
 }
 
-pub fn conservation(args: &[String]) -> Result<(), String> {
-    let mut steps = 1_000_000usize;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--steps" => {
-                let v = it.next().ok_or("--steps needs a value")?;
-                steps = v
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|s| *s >= 1e5 && s.fract() == 0.0)
-                    .map(|s| s as usize)
-                    .ok_or_else(|| format!("--steps: `{v}` is not an integer ≥ 100000"))?;
-            }
-            other => return Err(format!("conservation: unknown option `{other}`")),
-        }
+pub fn conservation(steps: usize) -> Result<(), String> {
+    if steps < 100_000 {
+        return Err(format!("--steps {steps}: must be at least 100000"));
     }
     println!(
         "Free rigid body J = diag(1,2,3), Ω0 = (0.4, −0.8, −1.1), h = 0.01; dopri at tol 1e-12 per 0.01 s call"

@@ -9,23 +9,56 @@
 //! * `conservation [--steps N]` — the free-body invariant table (energy and
 //!   orthogonality after 10⁵ and N steps, every stepper, f32 and f64).
 //!
-//! Scenario commands (`run`, `regress`, `bench`, `stress`) arrive with the
-//! `scenarios` crate.
+//! * `run <scene>` — runs a built-in scene or a scene file, prints a summary,
+//!   writes CSV, MCAP and SVG plots on request (`cargo xtask run --help`).
+//! * `regress [--quick]` — every built-in scene against its expectations.
 
 mod conservation;
+mod plot;
+mod regress;
+mod run;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
+use clap::{Parser, Subcommand};
+
+/// Developer tasks of the geometric-pid workspace.
+#[derive(Parser)]
+#[command(name = "cargo xtask", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Run a scene (built-in name or TOML file) and write CSV/MCAP/plots.
+    Run(Box<run::RunArgs>),
+    /// Run every built-in scene and check its metrics against the committed
+    /// expectations.
+    Regress(regress::RegressArgs),
+    /// Table of the last `cargo bench -p lie` run: generic vs hand-written.
+    BenchTable,
+    /// Build `lie` in every feature combination.
+    Features,
+    /// Free-body invariants after 1e5 and N steps, every stepper, f32/f64.
+    Conservation {
+        /// Number of steps (≥ 100000).
+        #[arg(long, default_value_t = 1_000_000)]
+        steps: usize,
+    },
+}
+
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match args.first().map(String::as_str) {
-        Some("bench-table") => bench_table(),
-        Some("features") => features(),
-        Some("conservation") => conservation::conservation(&args[1..]),
-        Some(other) => Err(format!("unknown command `{other}`\n{USAGE}")),
-        None => Err(USAGE.to_string()),
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Cmd::Run(a) => run::run(*a),
+        Cmd::Regress(a) => regress::regress(a),
+        Cmd::BenchTable => bench_table(),
+        Cmd::Features => features(),
+        Cmd::Conservation { steps } => conservation::conservation(steps),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -35,8 +68,6 @@ fn main() -> ExitCode {
         }
     }
 }
-
-const USAGE: &str = "usage: cargo xtask <bench-table | features | conservation [--steps N]>";
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

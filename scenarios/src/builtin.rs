@@ -1,0 +1,203 @@
+//! The built-in scenes.
+
+use std::f64::consts::PI;
+
+use crate::scene::*;
+
+fn base(name: &str, description: &str, duration: f64) -> Scene {
+    Scene {
+        name: name.into(),
+        description: description.into(),
+        duration,
+        scalar: Scalar::F64,
+        backend: BackendKind::Nalgebra,
+        vehicle: VehicleSpec::default(),
+        disturbance: None,
+        initial: InitialSpec::default(),
+        gains: GainsSpec::default(),
+        plan: Vec::new(),
+        integrator: IntegratorSpec::default(),
+        control: ControlSpec::default(),
+        record: RecordSpec::default(),
+    }
+}
+
+fn hold(x: [f64; 3], b1d: [f64; 3]) -> PositionRef {
+    PositionRef::Hold { x, b1d }
+}
+
+/// The paper's numerical example (DESIGN.md): Δ_x, Δ_R from t = 0; attitude
+/// mode to 0.4 s flipping about b2 while the heading turns 90°, thrust from
+/// the position-PD projection towards x_d = 0; then position mode to 4 s
+/// with x_d = 0, b1d = e2. e_I integrates from 0 and carries across the
+/// switch; e_i starts at zero at the switch.
+pub fn paper_flip() -> Scene {
+    let mut s = base(
+        "paper-flip",
+        "The paper's numerical example: a flip in attitude mode, then position recovery under Δ_x, Δ_R with integral action.",
+        4.0,
+    );
+    s.disturbance = Some(DisturbanceSpec::paper());
+    s.plan = vec![
+        SegmentSpec {
+            mode: Mode::Attitude,
+            until: Some(0.4),
+            attitude: Some(AttitudeRef::PaperFlip),
+            position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
+            thrust: ThrustSpec::PdProjection,
+        },
+        SegmentSpec {
+            mode: Mode::Position,
+            until: None,
+            attitude: None,
+            position: Some(hold([0.0; 3], [0.0, 1.0, 0.0])),
+            thrust: ThrustSpec::Hover,
+        },
+    ];
+    s.integrator.dt = 5e-4;
+    s.record.sample = 0.002;
+    s
+}
+
+/// `paper-flip` with k_I = k_i = 0: a steady-state error remains.
+pub fn paper_flip_no_integral() -> Scene {
+    let mut s = paper_flip();
+    s.name = "paper-flip-no-integral".into();
+    s.description = "The paper's flip without integral terms (k_I = k_i = 0): attitude and position settle off target.".into();
+    s.gains.k_i = 0.0;
+    s.gains.k_att_i = 0.0;
+    s
+}
+
+/// The paper's hardware test as an attitude-only scene (pinned at the centre
+/// of gravity, no stand gravity moment): 3-2-1 Euler angles φ = (π/9) sin πt,
+/// θ = (π/9) cos πt, ψ = 0; Δ_R applied; 10 s.
+pub fn paper_attitude_experiment() -> Scene {
+    let mut s = base(
+        "paper-attitude-experiment",
+        "The paper's attitude experiment, attitude only: tracking φ = (π/9) sin πt, θ = (π/9) cos πt under Δ_R.",
+        10.0,
+    );
+    s.vehicle.kind = VehicleKind::PinnedQuadrotor;
+    s.disturbance = Some(DisturbanceSpec::paper());
+    s.plan = vec![SegmentSpec {
+        mode: Mode::Attitude,
+        until: None,
+        attitude: Some(AttitudeRef::EulerExperiment {
+            amplitude: PI / 9.0,
+            frequency: PI,
+        }),
+        position: None,
+        thrust: ThrustSpec::Hover,
+    }];
+    s.record.sample = 0.005;
+    s
+}
+
+/// Hover at the origin under the paper's disturbances for 150 s: the
+/// integral terms converge to Δ_x/k_i and Δ_R/k_I, ‖e_x‖ → 0.
+pub fn hover_disturbed() -> Scene {
+    let mut s = base(
+        "hover-disturbed",
+        "Hover under constant Δ_x, Δ_R: the integrals learn the disturbances (e_i → Δ_x/k_i, e_I → Δ_R/k_I).",
+        150.0,
+    );
+    s.disturbance = Some(DisturbanceSpec::paper());
+    s.plan = vec![SegmentSpec {
+        mode: Mode::Position,
+        until: None,
+        attitude: None,
+        position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
+        thrust: ThrustSpec::Hover,
+    }];
+    s.integrator.dt = 2e-3;
+    s.record.sample = 0.05;
+    s
+}
+
+/// Attitude mode from a 170° error (Ψ(0) = 1 − cos 170° = 1.985 > 1,
+/// Proposition 3's region), no disturbance; Ψ → 0.
+pub fn large_attitude_error() -> Scene {
+    let mut s = base(
+        "large-attitude-error",
+        "Attitude recovery from a 170° error (Ψ(0) = 1.985 > 1, Proposition 3).",
+        20.0,
+    );
+    s.vehicle.kind = VehicleKind::PinnedQuadrotor;
+    let a = 170f64.to_radians() / 2f64.sqrt();
+    s.initial.rotation = [a, a, 0.0];
+    s.plan = vec![SegmentSpec {
+        mode: Mode::Attitude,
+        until: None,
+        attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
+        position: None,
+        thrust: ThrustSpec::Hover,
+    }];
+    s.record.sample = 0.01;
+    s
+}
+
+/// Position tracking of a figure eight with every derivative up to snap,
+/// under the paper's disturbances, from rest at its centre.
+pub fn figure_eight() -> Scene {
+    let mut s = base(
+        "figure-eight",
+        "Tracking a Lissajous figure eight (x_d to its 4th derivative) under Δ_x, Δ_R.",
+        20.0,
+    );
+    s.disturbance = Some(DisturbanceSpec::paper());
+    s.initial.x = [0.0, 0.0, -1.0];
+    s.plan = vec![SegmentSpec {
+        mode: Mode::Position,
+        until: None,
+        attitude: None,
+        position: Some(PositionRef::FigureEight {
+            center: [0.0, 0.0, -1.0],
+            a: 1.0,
+            b: 0.5,
+            omega: 1.0,
+        }),
+        thrust: ThrustSpec::Hover,
+    }];
+    s.record.sample = 0.01;
+    s
+}
+
+/// The torque-free body J = diag(1, 2, 3) with the integrator tests' start,
+/// no controller; energy and spatial momentum are conserved and the exact
+/// solution is known.
+pub fn free_rigid_body() -> Scene {
+    let mut s = base(
+        "free-rigid-body",
+        "A torque-free rigid body (J = diag(1,2,3)), no controller: invariants and the exact solution.",
+        100.0,
+    );
+    s.vehicle.kind = VehicleKind::FreeRigidBody;
+    s.vehicle.inertia = [1.0, 2.0, 3.0];
+    s.vehicle.mass = 1.0;
+    s.vehicle.gravity = 0.0;
+    s.initial.rotation = [0.3, -0.5, 0.2];
+    s.initial.omega = [0.4, -0.8, -1.1];
+    s.integrator.kind = "lgvi".into();
+    s.integrator.dt = 0.01;
+    s.record.sample = 0.1;
+    s
+}
+
+/// Every built-in scene.
+pub fn all() -> Vec<Scene> {
+    vec![
+        paper_flip(),
+        paper_flip_no_integral(),
+        paper_attitude_experiment(),
+        hover_disturbed(),
+        large_attitude_error(),
+        figure_eight(),
+        free_rigid_body(),
+    ]
+}
+
+/// The built-in scene called `name`.
+pub fn by_name(name: &str) -> Option<Scene> {
+    all().into_iter().find(|s| s.name == name)
+}

@@ -1,0 +1,347 @@
+//! CSV and MCAP output. Both are written to a temporary file next to the
+//! target and renamed into place when complete, so an interrupted run never
+//! leaves a truncated file under the requested name.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use serde_json::json;
+
+use crate::{RunOutput, Sample, Scene};
+
+/// The CSV header, fixed.
+pub const CSV_HEADER: &str =
+    "t,x1,x2,x3,v1,v2,v3,r11,r12,r13,r21,r22,r23,r31,r32,r33,w1,w2,w3,psi,ex,f,m1,m2,m3,mode";
+
+fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".partial");
+    path.with_file_name(name)
+}
+
+fn commit(tmp: &Path, path: &Path) -> std::io::Result<()> {
+    std::fs::rename(tmp, path)
+}
+
+/// One CSV row. Numbers use Rust's shortest round-trip formatting (`{}` of
+/// f64), so parsing them gives back the same f64.
+pub fn csv_row(s: &Sample) -> String {
+    let mut row = String::with_capacity(400);
+    let mut push = |x: f64| {
+        row.push_str(&format!("{x},"));
+    };
+    push(s.t);
+    s.x.iter().for_each(|&c| push(c));
+    s.v.iter().for_each(|&c| push(c));
+    s.r.iter().flatten().for_each(|&c| push(c));
+    s.omega.iter().for_each(|&c| push(c));
+    push(s.psi);
+    push(s.ex);
+    push(s.thrust);
+    s.moment.iter().for_each(|&c| push(c));
+    row.push_str(if s.position_mode {
+        "position"
+    } else {
+        "attitude"
+    });
+    row
+}
+
+/// Writes the samples as CSV.
+pub fn write_csv(path: &Path, out: &RunOutput) -> std::io::Result<()> {
+    let tmp = temp_path(path);
+    {
+        let mut w = BufWriter::new(File::create(&tmp)?);
+        writeln!(w, "{CSV_HEADER}")?;
+        for s in &out.samples {
+            writeln!(w, "{}", csv_row(s))?;
+        }
+        w.flush()?;
+    }
+    commit(&tmp, path)
+}
+
+/// Unit quaternion `(x, y, z, w)` of a rotation matrix (Shepperd's method:
+/// the largest of the four pivots, so no cancellation).
+pub fn quaternion_xyzw(r: &[[f64; 3]; 3]) -> [f64; 4] {
+    let tr = r[0][0] + r[1][1] + r[2][2];
+    let (w, x, y, z);
+    if tr >= r[0][0] && tr >= r[1][1] && tr >= r[2][2] {
+        let s = 2.0 * (1.0 + tr).sqrt();
+        w = 0.25 * s;
+        x = (r[2][1] - r[1][2]) / s;
+        y = (r[0][2] - r[2][0]) / s;
+        z = (r[1][0] - r[0][1]) / s;
+    } else if r[0][0] >= r[1][1] && r[0][0] >= r[2][2] {
+        let s = 2.0 * (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt();
+        w = (r[2][1] - r[1][2]) / s;
+        x = 0.25 * s;
+        y = (r[0][1] + r[1][0]) / s;
+        z = (r[0][2] + r[2][0]) / s;
+    } else if r[1][1] >= r[2][2] {
+        let s = 2.0 * (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt();
+        w = (r[0][2] - r[2][0]) / s;
+        x = (r[0][1] + r[1][0]) / s;
+        y = 0.25 * s;
+        z = (r[1][2] + r[2][1]) / s;
+    } else {
+        let s = 2.0 * (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt();
+        w = (r[1][0] - r[0][1]) / s;
+        x = (r[0][2] + r[2][0]) / s;
+        y = (r[1][2] + r[2][1]) / s;
+        z = 0.25 * s;
+    }
+    let n = (w * w + x * x + y * y + z * z).sqrt();
+    let sg = if w < 0.0 { -1.0 } else { 1.0 };
+    [sg * x / n, sg * y / n, sg * z / n, sg * w / n]
+}
+
+/// Topics written to the MCAP log.
+pub const TOPICS: [&str; 7] = [
+    "/vehicle/pose",
+    "/desired/pose",
+    "/tf",
+    "/errors",
+    "/command",
+    "/integrals",
+    "/mode",
+];
+
+const VEC3: &str = r#"{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]}"#;
+const QUAT: &str = r#"{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}"#;
+const TIME: &str = r#"{"type":"object","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer","minimum":0,"maximum":999999999}},"required":["sec","nsec"]}"#;
+
+fn pose_in_frame_schema() -> String {
+    format!(
+        r#"{{"title":"foxglove.PoseInFrame","type":"object","properties":{{"timestamp":{TIME},"frame_id":{{"type":"string"}},"pose":{{"type":"object","properties":{{"position":{VEC3},"orientation":{QUAT}}},"required":["position","orientation"]}}}},"required":["timestamp","frame_id","pose"]}}"#
+    )
+}
+
+fn frame_transform_schema() -> String {
+    format!(
+        r#"{{"title":"foxglove.FrameTransform","type":"object","properties":{{"timestamp":{TIME},"parent_frame_id":{{"type":"string"}},"child_frame_id":{{"type":"string"}},"translation":{VEC3},"rotation":{QUAT}}},"required":["timestamp","parent_frame_id","child_frame_id","translation","rotation"]}}"#
+    )
+}
+
+fn object_schema(title: &str, fields: &[(&str, &str)]) -> String {
+    let props: Vec<String> = fields
+        .iter()
+        .map(|(k, ty)| {
+            let t = match *ty {
+                "vec3" => VEC3.to_string(),
+                "number" => r#"{"type":"number"}"#.to_string(),
+                "integer" => r#"{"type":"integer"}"#.to_string(),
+                "string" => r#"{"type":"string"}"#.to_string(),
+                "array" => r#"{"type":"array","items":{"type":"number"}}"#.to_string(),
+                other => other.to_string(),
+            };
+            format!(r#""{k}":{t}"#)
+        })
+        .collect();
+    let req: Vec<String> = fields.iter().map(|(k, _)| format!(r#""{k}""#)).collect();
+    format!(
+        r#"{{"title":"{title}","type":"object","properties":{{{}}},"required":[{}]}}"#,
+        props.join(","),
+        req.join(",")
+    )
+}
+
+fn stamp(t: f64) -> serde_json::Value {
+    let ns = (t * 1e9).round() as u64;
+    json!({"sec": ns / 1_000_000_000, "nsec": ns % 1_000_000_000})
+}
+
+fn v3(a: [f64; 3]) -> serde_json::Value {
+    json!({"x": a[0], "y": a[1], "z": a[2]})
+}
+
+fn q4(q: [f64; 4]) -> serde_json::Value {
+    json!({"x": q[0], "y": q[1], "z": q[2], "w": q[3]})
+}
+
+/// Writes the run as MCAP: poses as `foxglove.PoseInFrame` (frame `ned`,
+/// the paper's e3-down inertial frame), `/tf` as `foxglove.FrameTransform`
+/// (`world` z-up → `ned` is a half turn about x; `ned` → `body` is the
+/// vehicle pose) so Foxglove's 3D panel shows the vehicle upright, and
+/// JSON channels (with JSON schemas) for errors, commands, integral states
+/// and mode switches for its plot panel.
+pub fn write_mcap(path: &Path, scene: &Scene, out: &RunOutput) -> Result<(), String> {
+    let tmp = temp_path(path);
+    let result = (|| -> Result<(), mcap::McapError> {
+        let file = BufWriter::new(File::create(&tmp)?);
+        let mut w = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Lz4))
+            .profile("")
+            .create(file)?;
+        let pose = w.add_schema(
+            "foxglove.PoseInFrame",
+            "jsonschema",
+            pose_in_frame_schema().as_bytes(),
+        )?;
+        let tf = w.add_schema(
+            "foxglove.FrameTransform",
+            "jsonschema",
+            frame_transform_schema().as_bytes(),
+        )?;
+        let errors = w.add_schema(
+            "gpid.Errors",
+            "jsonschema",
+            object_schema(
+                "gpid.Errors",
+                &[
+                    ("psi", "number"),
+                    ("ex", "number"),
+                    ("e_x", "vec3"),
+                    ("omega", "vec3"),
+                    ("omega_d", "vec3"),
+                ],
+            )
+            .as_bytes(),
+        )?;
+        let command = w.add_schema(
+            "gpid.Command",
+            "jsonschema",
+            object_schema(
+                "gpid.Command",
+                &[
+                    ("thrust", "number"),
+                    ("moment", "vec3"),
+                    ("rotor_thrusts", "array"),
+                ],
+            )
+            .as_bytes(),
+        )?;
+        let integrals = w.add_schema(
+            "gpid.Integrals",
+            "jsonschema",
+            object_schema("gpid.Integrals", &[("e_I", "vec3"), ("e_i", "vec3")]).as_bytes(),
+        )?;
+        let mode = w.add_schema(
+            "gpid.ModeSwitch",
+            "jsonschema",
+            object_schema(
+                "gpid.ModeSwitch",
+                &[
+                    ("t", "number"),
+                    ("from", "integer"),
+                    ("to", "integer"),
+                    ("mode", "string"),
+                ],
+            )
+            .as_bytes(),
+        )?;
+        let meta = BTreeMap::new();
+        let ch = [
+            w.add_channel(pose, TOPICS[0], "json", &meta)?,
+            w.add_channel(pose, TOPICS[1], "json", &meta)?,
+            w.add_channel(tf, TOPICS[2], "json", &meta)?,
+            w.add_channel(errors, TOPICS[3], "json", &meta)?,
+            w.add_channel(command, TOPICS[4], "json", &meta)?,
+            w.add_channel(integrals, TOPICS[5], "json", &meta)?,
+            w.add_channel(mode, TOPICS[6], "json", &meta)?,
+        ];
+        let mut seq = [0u32; 7];
+        let mut put =
+            |w: &mut mcap::Writer<BufWriter<File>>, k: usize, t: f64, v: serde_json::Value| {
+                let ns = (t * 1e9).round() as u64;
+                seq[k] += 1;
+                w.write_to_known_channel(
+                    &mcap::records::MessageHeader {
+                        channel_id: ch[k],
+                        sequence: seq[k],
+                        log_time: ns,
+                        publish_time: ns,
+                    },
+                    v.to_string().as_bytes(),
+                )
+            };
+        let world_to_ned = [1.0, 0.0, 0.0, 0.0]; // half turn about x, (x, y, z, w)
+        let mode_name = |k: usize| {
+            scene.plan.get(k).map_or("none", |s| match s.mode {
+                crate::scene::Mode::Attitude => "attitude",
+                crate::scene::Mode::Position => "position",
+            })
+        };
+        if !scene.plan.is_empty() {
+            put(
+                &mut w,
+                6,
+                0.0,
+                json!({"t": 0.0, "from": 0, "to": 0, "mode": mode_name(0)}),
+            )?;
+        }
+        let mut switches = out.switches.iter().peekable();
+        for s in &out.samples {
+            while let Some(sw) = switches.next_if(|sw| sw.t <= s.t) {
+                put(
+                    &mut w,
+                    6,
+                    sw.t,
+                    json!({"t": sw.t, "from": sw.from, "to": sw.to, "mode": mode_name(sw.to)}),
+                )?;
+            }
+            let q = quaternion_xyzw(&s.r);
+            let qd = quaternion_xyzw(&s.rd);
+            put(
+                &mut w,
+                0,
+                s.t,
+                json!({"timestamp": stamp(s.t), "frame_id": "ned",
+                "pose": {"position": v3(s.x), "orientation": q4(q)}}),
+            )?;
+            put(
+                &mut w,
+                1,
+                s.t,
+                json!({"timestamp": stamp(s.t), "frame_id": "ned",
+                "pose": {"position": v3(s.xd), "orientation": q4(qd)}}),
+            )?;
+            put(
+                &mut w,
+                2,
+                s.t,
+                json!({"timestamp": stamp(s.t), "parent_frame_id": "world",
+                "child_frame_id": "ned", "translation": v3([0.0; 3]), "rotation": q4(world_to_ned)}),
+            )?;
+            put(
+                &mut w,
+                2,
+                s.t,
+                json!({"timestamp": stamp(s.t), "parent_frame_id": "ned",
+                "child_frame_id": "body", "translation": v3(s.x), "rotation": q4(q)}),
+            )?;
+            let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
+            put(
+                &mut w,
+                3,
+                s.t,
+                json!({"psi": s.psi, "ex": s.ex, "e_x": v3(e_x),
+                "omega": v3(s.omega), "omega_d": v3(s.omega_d)}),
+            )?;
+            put(
+                &mut w,
+                4,
+                s.t,
+                json!({"thrust": s.thrust, "moment": v3(s.moment),
+                "rotor_thrusts": s.rotors}),
+            )?;
+            put(
+                &mut w,
+                5,
+                s.t,
+                json!({"e_I": v3(s.e_att), "e_i": v3(s.e_pos)}),
+            )?;
+        }
+        w.finish()?;
+        Ok(())
+    })();
+    match result {
+        Ok(()) => commit(&tmp, path).map_err(|e| format!("renaming {}: {e}", tmp.display())),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(format!("writing {}: {e}", path.display()))
+        }
+    }
+}

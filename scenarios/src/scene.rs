@@ -1,0 +1,580 @@
+//! Scenes as data: Rust structs that are also the TOML schema.
+
+use serde::{Deserialize, Serialize};
+
+/// A complete scene. Every field has the same name in TOML; unknown keys are
+/// errors.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name (`paper-flip`).
+    pub name: String,
+    /// What the scene shows.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time, s.
+    pub duration: f64,
+    /// `f32` or `f64`.
+    #[serde(default)]
+    pub scalar: Scalar,
+    /// `nalgebra` or `glam`.
+    #[serde(default)]
+    pub backend: BackendKind,
+    /// The vehicle and its parameters.
+    #[serde(default)]
+    pub vehicle: VehicleSpec,
+    /// Constant disturbances Δ_x (inertial force) and Δ_R (body moment); none
+    /// when absent.
+    #[serde(default)]
+    pub disturbance: Option<DisturbanceSpec>,
+    /// Initial state.
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// Controller gains.
+    #[serde(default)]
+    pub gains: GainsSpec,
+    /// Flight-mode plan; empty means no controller (a free body).
+    #[serde(default)]
+    pub plan: Vec<SegmentSpec>,
+    /// Integrator and step.
+    #[serde(default)]
+    pub integrator: IntegratorSpec,
+    /// Control timing.
+    #[serde(default)]
+    pub control: ControlSpec,
+    /// What to record.
+    #[serde(default)]
+    pub record: RecordSpec,
+}
+
+/// Scalar type of the simulation.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scalar {
+    /// Single precision.
+    F32,
+    /// Double precision.
+    #[default]
+    F64,
+}
+
+/// Linear-algebra backend.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BackendKind {
+    /// nalgebra.
+    #[default]
+    Nalgebra,
+    /// glam.
+    Glam,
+}
+
+/// Which vehicle.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VehicleKind {
+    /// The paper's quadrotor, free to translate.
+    #[default]
+    Quadrotor,
+    /// The quadrotor on a spherical joint at its centre of gravity: attitude
+    /// only, no translation integrated (the paper's hardware test without
+    /// the stand's gravity moment).
+    PinnedQuadrotor,
+    /// A torque-free rigid body (no actuators, no gravity).
+    FreeRigidBody,
+}
+
+/// Vehicle parameters (defaults: the paper's numerical example).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct VehicleSpec {
+    /// Kind of vehicle.
+    pub kind: VehicleKind,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Principal inertia diag(J), kg m².
+    pub inertia: [f64; 3],
+    /// Gravity, m/s².
+    pub gravity: f64,
+    /// Arm length d, m.
+    pub arm: f64,
+    /// Reaction-torque coefficient c_τf, m.
+    pub c_tau_f: f64,
+}
+
+impl Default for VehicleSpec {
+    fn default() -> Self {
+        Self {
+            kind: VehicleKind::Quadrotor,
+            mass: 0.755,
+            inertia: [0.43e-2, 0.43e-2, 1.02e-2],
+            gravity: 9.81,
+            arm: 0.169,
+            c_tau_f: 0.0132,
+        }
+    }
+}
+
+/// Constant disturbances.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DisturbanceSpec {
+    /// Δ_x, inertial force, N.
+    pub force: [f64; 3],
+    /// Δ_R, body moment, N m.
+    pub moment: [f64; 3],
+}
+
+impl DisturbanceSpec {
+    /// The paper's Δ_x = [−0.5, 0.2, 1] N, Δ_R = [0.2, −0.1, −0.02] N m.
+    pub fn paper() -> Self {
+        Self {
+            force: [-0.5, 0.2, 1.0],
+            moment: [0.2, -0.1, -0.02],
+        }
+    }
+}
+
+/// Initial state; the attitude is a rotation vector (axis × angle, rad).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialSpec {
+    /// Position, m.
+    pub x: [f64; 3],
+    /// Velocity, m/s.
+    pub v: [f64; 3],
+    /// Attitude as a rotation vector, rad.
+    pub rotation: [f64; 3],
+    /// Body angular velocity, rad/s.
+    pub omega: [f64; 3],
+}
+
+/// Gains (defaults: the paper's).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GainsSpec {
+    /// k_x.
+    pub k_x: f64,
+    /// k_v.
+    pub k_v: f64,
+    /// k_i (position integral).
+    pub k_i: f64,
+    /// k_R.
+    pub k_r: f64,
+    /// k_Ω.
+    pub k_omega: f64,
+    /// k_I (attitude integral).
+    pub k_att_i: f64,
+    /// c1.
+    pub c1: f64,
+    /// c2.
+    pub c2: f64,
+    /// σ of sat_σ(e_i).
+    pub sigma: f64,
+    /// Acceleration model for Ω_c, Ω̇_c.
+    pub acceleration_model: AccelModel,
+}
+
+impl Default for GainsSpec {
+    fn default() -> Self {
+        Self {
+            k_x: 12.8,
+            k_v: 4.22,
+            k_i: 1.28,
+            k_r: 0.65,
+            k_omega: 0.11,
+            k_att_i: 0.06,
+            c1: 3.6,
+            c2: 0.8,
+            sigma: 1.0,
+            acceleration_model: AccelModel::Nominal,
+        }
+    }
+}
+
+/// Which acceleration the computed attitude's derivatives use.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AccelModel {
+    /// g e3 − (f/m) R e3 + k_i sat(e_i)/m (the controller's disturbance
+    /// estimate included; the controller never sees Δ_x itself).
+    #[default]
+    Nominal,
+    /// g e3 − (f/m) R e3 only.
+    NominalWithoutEstimate,
+}
+
+/// One flight-mode segment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// `attitude` or `position`.
+    pub mode: Mode,
+    /// End time, s; absent for the last segment.
+    #[serde(default)]
+    pub until: Option<f64>,
+    /// Attitude reference (attitude mode).
+    #[serde(default)]
+    pub attitude: Option<AttitudeRef>,
+    /// Position reference (position mode; in attitude mode, the target of
+    /// the `pd-projection` thrust).
+    #[serde(default)]
+    pub position: Option<PositionRef>,
+    /// Thrust in attitude mode.
+    #[serde(default)]
+    pub thrust: ThrustSpec,
+}
+
+/// Flight mode.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// Attitude tracking (eqn:aM).
+    Attitude,
+    /// Position tracking (eqn:f, eqn:M).
+    Position,
+}
+
+/// Attitude-mode thrust.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ThrustSpec {
+    /// m g.
+    #[default]
+    Hover,
+    /// f = (k_x e_x + k_v e_v + m g e3 − m ẍ_d)·R e3 towards the segment's
+    /// position reference (the paper's flip).
+    PdProjection,
+}
+
+/// Attitude references.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum AttitudeRef {
+    /// The paper's flip: R_d(t) = exp(π t e3^) exp(4π t e2^).
+    PaperFlip,
+    /// The paper's experiment: 3-2-1 Euler angles φ = a sin(ωt),
+    /// θ = a cos(ωt), ψ = 0, R_d = R_y(θ) R_x(φ).
+    EulerExperiment {
+        /// Amplitude a, rad (paper: π/9).
+        amplitude: f64,
+        /// ω, rad/s (paper: π).
+        frequency: f64,
+    },
+    /// A fixed attitude, as a rotation vector.
+    Hold {
+        /// Rotation vector, rad.
+        rotation: [f64; 3],
+    },
+}
+
+/// Position references.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum PositionRef {
+    /// Hold x_d with heading b1d.
+    Hold {
+        /// x_d, m.
+        x: [f64; 3],
+        /// b1d (normalised internally).
+        b1d: [f64; 3],
+    },
+    /// Lissajous figure eight x_d = c + (a sin ωt, b sin 2ωt, 0), b1d = e1.
+    FigureEight {
+        /// Centre, m.
+        center: [f64; 3],
+        /// Half-width along e1, m.
+        a: f64,
+        /// Half-height along e2, m.
+        b: f64,
+        /// ω, rad/s.
+        omega: f64,
+    },
+}
+
+/// Integrator choice.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IntegratorSpec {
+    /// `lgvi | rk4 | rk4-projected | rkmk4 | euler | dopri`.
+    pub kind: String,
+    /// Step, s (for dopri: the longest call; it adapts inside).
+    pub dt: f64,
+    /// dopri tolerance.
+    pub tol: f64,
+    /// Locate the sat′ discontinuities (e_i crossing ±σ) and split steps
+    /// there. Off only to measure what it buys.
+    pub locate_events: bool,
+}
+
+impl Default for IntegratorSpec {
+    fn default() -> Self {
+        Self {
+            kind: "rk4".into(),
+            dt: 1e-3,
+            tol: 1e-10,
+            locate_events: true,
+        }
+    }
+}
+
+/// Control timing.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ControlSpec {
+    /// `continuous` (controller inside the vector field) or `sampled`.
+    pub timing: Timing,
+    /// Sampled: controller rate, Hz.
+    pub rate: f64,
+}
+
+/// Control timing.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Timing {
+    /// Controller inside the vector field.
+    #[default]
+    Continuous,
+    /// Zero-order hold at `rate`.
+    Sampled,
+}
+
+/// Recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RecordSpec {
+    /// Sample interval, s; 0 records nothing but the final state.
+    pub sample: f64,
+}
+
+impl Default for RecordSpec {
+    fn default() -> Self {
+        Self { sample: 0.01 }
+    }
+}
+
+/// A scene that failed to load or validate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// What is wrong, naming the key and the value.
+    pub message: String,
+    /// `file:line:column` when known.
+    pub location: Option<String>,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.location {
+            Some(l) => write!(f, "{l}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl Scene {
+    /// Parses a TOML scene; `origin` names the file in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| {
+            let location = e.span().map(|sp| {
+                let (line, col) = line_col(text, sp.start);
+                format!("{origin}:{line}:{col}")
+            });
+            SceneError {
+                message: e.message().trim().to_string(),
+                location,
+            }
+        })?;
+        scene.validate().map_err(|(key, msg)| SceneError {
+            message: msg,
+            location: locate_key(text, key).map(|(l, c)| format!("{origin}:{l}:{c}")),
+        })?;
+        Ok(scene)
+    }
+
+    /// Serialises to TOML (the inverse of [`Scene::from_toml`]).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+
+    /// Checks values; on failure returns the dotted key and a message naming
+    /// it and the value.
+    pub fn validate(&self) -> Result<(), (&'static str, String)> {
+        fn pos(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err((key, format!("`{key}` = {v}: must be finite and > 0")))
+            }
+        }
+        fn nonneg(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err((key, format!("`{key}` = {v}: must be finite and ≥ 0")))
+            }
+        }
+        fn finite3(key: &'static str, v: &[f64; 3]) -> Result<(), (&'static str, String)> {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err((key, format!("`{key}` = {v:?}: must be finite")))
+            }
+        }
+        pos("duration", self.duration)?;
+        let ve = &self.vehicle;
+        pos("mass", ve.mass)?;
+        for j in ve.inertia {
+            pos("inertia", j)?;
+        }
+        nonneg("gravity", ve.gravity)?;
+        pos("arm", ve.arm)?;
+        if !(ve.c_tau_f.is_finite() && ve.c_tau_f != 0.0) {
+            return Err((
+                "c_tau_f",
+                format!("`c_tau_f` = {}: must be finite and non-zero", ve.c_tau_f),
+            ));
+        }
+        if let Some(d) = &self.disturbance {
+            finite3("force", &d.force)?;
+            finite3("moment", &d.moment)?;
+        }
+        let i = &self.initial;
+        finite3("x", &i.x)?;
+        finite3("v", &i.v)?;
+        finite3("rotation", &i.rotation)?;
+        finite3("omega", &i.omega)?;
+        let g = &self.gains;
+        for (k, v) in [
+            ("k_x", g.k_x),
+            ("k_v", g.k_v),
+            ("k_r", g.k_r),
+            ("k_omega", g.k_omega),
+            ("sigma", g.sigma),
+        ] {
+            pos(k, v)?;
+        }
+        for (k, v) in [
+            ("k_i", g.k_i),
+            ("k_att_i", g.k_att_i),
+            ("c1", g.c1),
+            ("c2", g.c2),
+        ] {
+            nonneg(k, v)?;
+        }
+        pos("dt", self.integrator.dt)?;
+        if self
+            .integrator
+            .kind
+            .parse::<integrators::IntegratorKind>()
+            .is_err()
+        {
+            return Err((
+                "kind",
+                format!(
+                    "integrator `kind` = \"{}\": expected one of lgvi, rk4, rk4-projected, rkmk4, euler, dopri",
+                    self.integrator.kind
+                ),
+            ));
+        }
+        pos("tol", self.integrator.tol)?;
+        if self.control.timing == Timing::Sampled {
+            pos("rate", self.control.rate)?;
+        }
+        nonneg("sample", self.record.sample)?;
+        let mut last = 0.0;
+        for (k, seg) in self.plan.iter().enumerate() {
+            let is_last = k + 1 == self.plan.len();
+            match seg.until {
+                Some(u) if !(u.is_finite() && u > last) => {
+                    return Err((
+                        "until",
+                        format!("plan[{k}] `until` = {u}: must be finite and after {last}"),
+                    ));
+                }
+                Some(u) => last = u,
+                None if !is_last => {
+                    return Err((
+                        "until",
+                        format!("plan[{k}] has no `until`; only the last segment may omit it"),
+                    ));
+                }
+                None => {}
+            }
+            match seg.mode {
+                Mode::Attitude if seg.attitude.is_none() => {
+                    return Err((
+                        "mode",
+                        format!(
+                            "plan[{k}] is `attitude` mode but has no `[plan.attitude]` reference"
+                        ),
+                    ));
+                }
+                Mode::Attitude
+                    if seg.thrust == ThrustSpec::PdProjection && seg.position.is_none() =>
+                {
+                    return Err((
+                        "thrust",
+                        format!(
+                            "plan[{k}] `thrust` = \"pd-projection\" needs a `[plan.position]` target"
+                        ),
+                    ));
+                }
+                Mode::Position if seg.position.is_none() => {
+                    return Err((
+                        "mode",
+                        format!(
+                            "plan[{k}] is `position` mode but has no `[plan.position]` reference"
+                        ),
+                    ));
+                }
+                Mode::Position if self.vehicle.kind != VehicleKind::Quadrotor => {
+                    return Err((
+                        "mode",
+                        format!(
+                            "plan[{k}] is `position` mode but the vehicle {:?} cannot translate",
+                            self.vehicle.kind
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+            if let Some(PositionRef::Hold { b1d, .. }) = &seg.position
+                && b1d.iter().map(|c| c * c).sum::<f64>() < 1e-12
+            {
+                return Err((
+                    "b1d",
+                    format!("plan[{k}] `b1d` = {b1d:?}: must be non-zero"),
+                ));
+            }
+        }
+        if !self.plan.is_empty() && self.vehicle.kind == VehicleKind::FreeRigidBody {
+            return Err((
+                "plan",
+                "a free rigid body has no actuators; remove the `[[plan]]` segments".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rfind('\n').map_or(offset, |p| offset - p - 1) + 1;
+    (line, col)
+}
+
+/// First `key =` in the text (the dotted context is in the message).
+fn locate_key(text: &str, key: &str) -> Option<(usize, usize)> {
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        if let Some(rest) = t.strip_prefix(key)
+            && rest.trim_start().starts_with('=')
+        {
+            return Some((i + 1, line.len() - t.len() + 1));
+        }
+    }
+    None
+}

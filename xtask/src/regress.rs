@@ -1,0 +1,560 @@
+//! `cargo xtask regress [--quick]`: every built-in scene against
+//! expectations computed independently of the code under test — a tighter
+//! integrator (Dormand–Prince at tol 1e-12), closed forms (the no-integral
+//! steady state, Ψ of a known rotation, the disturbance-learning fixed
+//! point), an algebraic equilibrium solve, and conservation laws. Each row
+//! carries its tolerance and the reason for it.
+
+#![allow(clippy::needless_range_loop)] // index notation mirrors the component formulas
+
+use std::path::PathBuf;
+
+use scenarios::metrics::{at, max_difference, max_ex_after};
+use scenarios::reference::rotation_f64;
+use scenarios::{RunOutput, Scene, builtin, output};
+
+#[derive(clap::Args, Debug)]
+pub struct RegressArgs {
+    /// Run the subset CI runs (every scene but the two long ones).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+struct Row {
+    scene: String,
+    metric: String,
+    value: f64,
+    expected: f64,
+    tol: f64,
+    /// `true`: |value − expected| ≤ tol; `false`: value ≤ tol (a bound).
+    two_sided: bool,
+    why: &'static str,
+}
+
+impl Row {
+    fn ok(&self) -> bool {
+        if self.two_sided {
+            (self.value - self.expected).abs() <= self.tol
+        } else {
+            self.value <= self.tol
+        }
+    }
+}
+
+struct Table(Vec<Row>);
+
+impl Table {
+    fn close(
+        &mut self,
+        scene: &str,
+        metric: &str,
+        value: f64,
+        expected: f64,
+        tol: f64,
+        why: &'static str,
+    ) {
+        self.0.push(Row {
+            scene: scene.into(),
+            metric: metric.into(),
+            value,
+            expected,
+            tol,
+            two_sided: true,
+            why,
+        });
+    }
+    fn below(&mut self, scene: &str, metric: &str, value: f64, bound: f64, why: &'static str) {
+        self.0.push(Row {
+            scene: scene.into(),
+            metric: metric.into(),
+            value,
+            expected: 0.0,
+            tol: bound,
+            two_sided: false,
+            why,
+        });
+    }
+}
+
+fn run(scene: &Scene) -> Result<RunOutput, String> {
+    crate::run::run_scene(scene, true)
+}
+
+fn dopri(scene: &Scene) -> Result<RunOutput, String> {
+    let mut s = scene.clone();
+    s.integrator.kind = "dopri".into();
+    s.integrator.tol = 1e-12;
+    s.integrator.dt = s.record.sample;
+    run(&s)
+}
+
+fn log_mcap(scene: &Scene, out: &RunOutput) -> Result<(), String> {
+    let dir = PathBuf::from("target/regress");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    output::write_mcap(&dir.join(format!("{}.mcap", scene.name)), scene, out)
+}
+
+fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+fn mat_mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    c
+}
+
+/// Static equilibrium of the position loop without integral terms under
+/// Δ_x, Δ_R, solved algebraically (Newton on x, finite-difference
+/// Jacobian): at rest, k_R e_R = Δ_R gives R = R_c exp(asin|δ| δ̂), δ =
+/// Δ_R/k_R, and the force balance m g e3 − f R e3 + Δ_x = 0 with
+/// f = −A·R e3, A = −k_x x − m g e3, R_c from b3c = −A/|A| and b1d.
+fn no_integral_equilibrium(scene: &Scene, b1d: [f64; 3]) -> [f64; 3] {
+    let (m, g) = (scene.vehicle.mass, scene.vehicle.gravity);
+    let d = scene.disturbance.clone().expect("scene has disturbances");
+    let kr = scene.gains.k_r;
+    let delta = d.moment.map(|c| c / kr);
+    let th = norm(delta).asin();
+    let e = rotation_f64(delta.map(|c| c / norm(delta) * th));
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let residual = |x: [f64; 3]| {
+        let a = [
+            -scene.gains.k_x * x[0],
+            -scene.gains.k_x * x[1],
+            -scene.gains.k_x * x[2] - m * g,
+        ];
+        let na = norm(a);
+        let b3 = a.map(|c| -c / na);
+        let b2u = cross(b3, b1d);
+        let b2 = b2u.map(|c| c / norm(b2u));
+        let b1 = cross(b2, b3);
+        let rc = [
+            [b1[0], b2[0], b3[0]],
+            [b1[1], b2[1], b3[1]],
+            [b1[2], b2[2], b3[2]],
+        ];
+        let r = mat_mul(rc, e);
+        let re3 = [r[0][2], r[1][2], r[2][2]];
+        let f = -(a[0] * re3[0] + a[1] * re3[1] + a[2] * re3[2]);
+        [0, 1, 2].map(|k| if k == 2 { m * g } else { 0.0 } - f * re3[k] + d.force[k])
+    };
+    let mut x = d.force.map(|c| c / scene.gains.k_x);
+    for _ in 0..50 {
+        let r0 = residual(x);
+        if norm(r0) < 1e-14 {
+            break;
+        }
+        let h = 1e-7;
+        let mut jac = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let mut xp = x;
+            xp[j] += h;
+            let rp = residual(xp);
+            for i in 0..3 {
+                jac[i][j] = (rp[i] - r0[i]) / h;
+            }
+        }
+        // Cramer's rule for the 3×3 Newton step.
+        let det = |m: [[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let dj = det(jac);
+        for k in 0..3 {
+            let mut mk = jac;
+            for i in 0..3 {
+                mk[i][k] = r0[i];
+            }
+            x[k] -= det(mk) / dj;
+        }
+    }
+    x
+}
+
+fn paper_flip(t: &mut Table) -> Result<(), String> {
+    let s = builtin::paper_flip();
+    let n = s.name.clone();
+    let def = run(&s)?;
+    log_mcap(&s, &def)?;
+    let reference = dopri(&s)?;
+    let mut fine = s.clone();
+    fine.integrator.dt = 1e-4;
+    let fine = run(&fine)?;
+    let (dx, dv, dr, cnt) = max_difference(&fine.samples, &reference.samples);
+    const WHY_FINE: &str = "issue 5 asks for 1e-6; with the sat′ events located (and the branch forced on each side) both are smooth per piece and agree to ~1e-11";
+    t.below(
+        &n,
+        &format!("rk4 h=1e-4 vs dopri 1e-12: max|Δx| ({cnt} samples)"),
+        dx,
+        1e-6,
+        WHY_FINE,
+    );
+    t.below(&n, "rk4 h=1e-4 vs dopri 1e-12: max|Δv|", dv, 1e-6, WHY_FINE);
+    t.below(&n, "rk4 h=1e-4 vs dopri 1e-12: max|ΔR|", dr, 1e-6, WHY_FINE);
+    let mut blind = s.clone();
+    blind.integrator.dt = 1e-4;
+    blind.integrator.locate_events = false;
+    let blind = run(&blind)?;
+    let (_, _, dr_blind, _) = max_difference(&blind.samples, &reference.samples);
+    t.close(&n, &format!("log10 max|ΔR| without event location (max|ΔR| = {dr_blind:.1e})"), dr_blind.log10().round(), -6.0, 1.0, "DESIGN.md: stepping across the sat′ jump at h = 1e-4 limits the agreement to ~1e-5…1e-6 (order of magnitude checked)");
+    let (dx, _, dr, _) = max_difference(&def.samples, &reference.samples);
+    const WHY_DEF: &str = "default step 5e-4: rk4 error (5e-4/1e-4)⁴ = 625× the fine run's; measured 1.4e-9, bound with margin";
+    t.below(
+        &n,
+        "default rk4 h=5e-4 vs dopri: max|Δx|",
+        dx,
+        1e-7,
+        WHY_DEF,
+    );
+    t.below(
+        &n,
+        "default rk4 h=5e-4 vs dopri: max|ΔR|",
+        dr,
+        1e-7,
+        WHY_DEF,
+    );
+    for tt in [1.0, 2.0, 4.0] {
+        let (a, b) = (at(&def.samples, tt), at(&reference.samples, tt));
+        let (a, b) = (a.ok_or("missing sample")?, b.ok_or("missing sample")?);
+        t.close(
+            &n,
+            &format!("Ψ({tt}) vs dopri"),
+            a.psi,
+            b.psi,
+            1e-8,
+            "|ΔΨ| ≤ ‖ΔR‖ and the default run is within 1.4e-9 in R",
+        );
+        t.close(
+            &n,
+            &format!("‖e_x‖({tt}) vs dopri"),
+            a.ex,
+            b.ex,
+            1e-8,
+            "|Δ‖e_x‖| ≤ |Δx|, same budget",
+        );
+    }
+    t.close(
+        &n,
+        "switch time",
+        def.switches.first().map_or(f64::NAN, |s| s.t),
+        0.4,
+        0.0,
+        "the run lands exactly on the switch at 0.4 s (DESIGN.md plan)",
+    );
+    t.close(
+        &n,
+        "switches",
+        def.switches.len() as f64,
+        1.0,
+        0.0,
+        "one attitude→position switch",
+    );
+    let at_switch = at(&def.samples, 0.4).ok_or("no sample at 0.4")?;
+    t.close(
+        &n,
+        "‖e_i‖ at the switch",
+        norm(at_switch.e_pos),
+        0.0,
+        0.0,
+        "e_i starts at zero on entering position mode (issue 5)",
+    );
+    t.below(
+        &n,
+        "located sat′ events (count, ≥ 1 expected)",
+        -(def.events as f64),
+        -1.0,
+        "e_i crosses ±σ after the flip; the run must have located it",
+    );
+    Ok(())
+}
+
+fn no_integral(t: &mut Table) -> Result<(), String> {
+    let s = builtin::paper_flip_no_integral();
+    let n = s.name.clone();
+    let def = run(&s)?;
+    log_mcap(&s, &def)?;
+    let reference = dopri(&s)?;
+    let (dx, _, dr, _) = max_difference(&def.samples, &reference.samples);
+    let why = "default rk4 h = 5e-4 against dopri 1e-12, events located in both; same budget as paper-flip";
+    t.below(&n, "rk4 vs dopri: max|Δx|", dx, 1e-7, why);
+    t.below(&n, "rk4 vs dopri: max|ΔR|", dr, 1e-7, why);
+    // The closed-form steady state needs an unbiased Ω_c model. With Δ_x ≠ 0
+    // and no integral, the nominal model predicts −Δ_x/m at rest (issue 4's
+    // finding), so the paper's scene settles elsewhere; remove Δ_x (keep
+    // Δ_R) and the static balance must hold exactly.
+    let mut v = s.clone();
+    v.name = format!("{n} (Δ_x = 0)");
+    v.duration = 20.0;
+    v.record.sample = 0.01;
+    if let Some(d) = v.disturbance.as_mut() {
+        d.force = [0.0; 3];
+    }
+    let out = run(&v)?;
+    let last = &out.last;
+    let d = v.disturbance.clone().unwrap();
+    let k = norm(d.moment) / v.gains.k_r;
+    let psi_ss = 1.0 - (1.0 - k * k).sqrt();
+    let why = "closed form / static balance; the slowest PD pole (≈ −2.8 s⁻¹) leaves e^(−2.8·16) ≈ 1e-19 of the transient at 20 s";
+    t.close(
+        &v.name,
+        "Ψ(20 s) vs 1 − √(1 − ‖Δ_R‖²/k_R²)",
+        last.psi,
+        psi_ss,
+        1e-9,
+        why,
+    );
+    let x_eq = no_integral_equilibrium(&v, [0.0, 1.0, 0.0]);
+    let dx = norm([
+        last.x[0] - x_eq[0],
+        last.x[1] - x_eq[1],
+        last.x[2] - x_eq[2],
+    ]);
+    t.below(
+        &v.name,
+        "|x(20 s) − x_eq| (algebraic equilibrium)",
+        dx,
+        1e-8,
+        why,
+    );
+    Ok(())
+}
+
+/// Slowest root of the linearised attitude PID per axis,
+/// `J s³ + k_Ω s² + (k_R + k_I) s + k_I c2 = 0`, by Newton from the
+/// small-J approximation `−k_I c2/(k_R + k_I)`.
+fn slow_attitude_root(j: f64, g: &scenarios::scene::GainsSpec) -> f64 {
+    let (a, b, c, d) = (j, g.k_omega, g.k_r + g.k_att_i, g.k_att_i * g.c2);
+    let mut s = -d / c;
+    for _ in 0..50 {
+        let f = ((a * s + b) * s + c) * s + d;
+        let df = (3.0 * a * s + 2.0 * b) * s + c;
+        s -= f / df;
+    }
+    s
+}
+
+fn attitude_experiment(t: &mut Table) -> Result<(), String> {
+    let s = builtin::paper_attitude_experiment();
+    let n = s.name.clone();
+    let out = run(&s)?;
+    log_mcap(&s, &out)?;
+    let psi0 = 1.0 - (std::f64::consts::PI / 9.0).cos();
+    t.close(
+        &n,
+        "Ψ(0) vs 1 − cos(π/9)",
+        out.samples[0].psi,
+        psi0,
+        1e-15,
+        "R(0) = I, R_d(0) = R_y(π/9): closed form, rounding only",
+    );
+    let reference = dopri(&s)?;
+    let (_, _, dr, _) = max_difference(&out.samples, &reference.samples);
+    t.below(
+        &n,
+        "rk4 h=1e-3 vs dopri 1e-12: max|ΔR|",
+        dr,
+        1e-6,
+        "smooth reference, rk4 O(h⁴) ≈ 1e-9 here; 1e-6 is the issue's agreement level",
+    );
+    t.below(
+        &n,
+        "translation integrated (‖x‖ max)",
+        out.samples.iter().map(|s| norm(s.x)).fold(0.0, f64::max),
+        0.0,
+        "pinned vehicle: x stays exactly 0",
+    );
+    Ok(())
+}
+
+fn large_attitude(t: &mut Table) -> Result<(), String> {
+    let s = builtin::large_attitude_error();
+    let n = s.name.clone();
+    let out = run(&s)?;
+    log_mcap(&s, &out)?;
+    let psi0 = 1.0 - 170f64.to_radians().cos();
+    t.close(
+        &n,
+        "Ψ(0) vs 1 − cos 170°",
+        out.samples[0].psi,
+        psi0,
+        1e-14,
+        "closed form",
+    );
+    let first_below_1 = out
+        .samples
+        .iter()
+        .find(|s| s.psi < 1.0)
+        .map_or(f64::INFINITY, |s| s.t);
+    t.below(&n, "first t with Ψ < 1 (s)", first_below_1, 3.0, "Prop. 3: from Ψ(0) < 2 the error decays; the PD poles (≈ −13 s⁻¹) bring Ψ under 1 within about a second");
+    // After the fast PD modes die out only the integral mode remains, so Ψ
+    // (quadratic in the error) decays like e^(2λt) with λ the slowest root
+    // of the linearised loop (the rotation axis lies in the b1–b2 plane,
+    // J1 = J2).
+    let lam = slow_attitude_root(s.vehicle.inertia[0], &s.gains);
+    let (p10, p20) = (
+        at(&out.samples, 10.0).ok_or("no sample at 10 s")?.psi,
+        at(&out.samples, 20.0).ok_or("no sample at 20 s")?.psi,
+    );
+    t.close(
+        &n,
+        "Ψ(20)/Ψ(10) vs e^(2λ·10), λ slowest linear root",
+        p20 / p10,
+        (2.0 * lam * 10.0).exp(),
+        0.03 * (2.0 * lam * 10.0).exp(),
+        "linearisation; 3 % covers the O(θ²) nonlinearity at Ψ ≈ 1e-2 (θ ≈ 0.15 rad)",
+    );
+    Ok(())
+}
+
+fn free_body(t: &mut Table) -> Result<(), String> {
+    let s = builtin::free_rigid_body();
+    let n = s.name.clone();
+    let out = run(&s)?;
+    log_mcap(&s, &out)?;
+    let energy = |x: &scenarios::Sample| {
+        0.5 * (0..3)
+            .map(|k| s.vehicle.inertia[k] * x.omega[k] * x.omega[k])
+            .sum::<f64>()
+    };
+    let e0 = energy(&out.samples[0]);
+    let drift = out
+        .samples
+        .iter()
+        .map(|x| ((energy(x) - e0) / e0).abs())
+        .fold(0.0, f64::max);
+    t.below(
+        &n,
+        "lgvi max |ΔE/E| over 100 s (10⁴ steps)",
+        drift,
+        1e-12,
+        "Moser–Veselov conserves E exactly; rounding floor measured 2e-14 per 1e5 steps (issue 3)",
+    );
+    let exact = dynamics::free_body::ExactFreeBody::new(
+        s.vehicle.inertia,
+        s.initial.omega,
+        rotation_f64(s.initial.rotation),
+    )
+    .map_err(|e| e.to_string())?;
+    let reference = dopri(&s)?;
+    let l = &reference.last;
+    let r_ex = exact.attitude(s.duration);
+    let w_ex = exact.omega(s.duration);
+    let mut err: f64 = 0.0;
+    for i in 0..3 {
+        err = err.max((l.omega[i] - w_ex[i]).abs());
+        for j in 0..3 {
+            err = err.max((l.r[i][j] - r_ex[i][j]).abs());
+        }
+    }
+    t.below(&n, "dopri 1e-12 vs exact solution at 100 s", err, 1e-9, "global error of a tol-1e-12 run grows ~linearly: 1.2e-11 at 10 s measured (issue 3), ×10 time ×~8 margin");
+    Ok(())
+}
+
+fn hover(t: &mut Table) -> Result<(), String> {
+    let s = builtin::hover_disturbed();
+    let n = s.name.clone();
+    let out = run(&s)?;
+    log_mcap(&s, &out)?;
+    let d = s.disturbance.clone().unwrap();
+    let l = &out.last;
+    let rel = |a: [f64; 3], b: [f64; 3]| norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]]) / norm(b);
+    let why = "fixed point k_i e_i = Δ_x, k_I e_I = Δ_R (controllers tests); slowest mode τ = 14.6 s leaves e^(−150/14.6) ≈ 3e-5 at 150 s, ×30 margin";
+    t.below(
+        &n,
+        "‖e_i − Δ_x/k_i‖/‖Δ_x/k_i‖ at 150 s",
+        rel(l.e_pos, d.force.map(|c| c / s.gains.k_i)),
+        1e-3,
+        why,
+    );
+    t.below(
+        &n,
+        "‖e_I − Δ_R/k_I‖/‖Δ_R/k_I‖ at 150 s",
+        rel(l.e_att, d.moment.map(|c| c / s.gains.k_att_i)),
+        1e-3,
+        why,
+    );
+    t.below(&n, "‖e_x‖ at 150 s (m)", l.ex, 1e-4, why);
+    Ok(())
+}
+
+fn figure_eight(t: &mut Table) -> Result<(), String> {
+    let s = builtin::figure_eight();
+    let n = s.name.clone();
+    let out = run(&s)?;
+    log_mcap(&s, &out)?;
+    let reference = dopri(&s)?;
+    let (dx, dv, dr, _) = max_difference(&out.samples, &reference.samples);
+    let why = "rk4 at 1e-3 vs dopri 1e-12 with located events; the issue's 1e-6 agreement level";
+    t.below(&n, "rk4 vs dopri: max|Δx|", dx, 1e-6, why);
+    t.below(&n, "rk4 vs dopri: max|Δv|", dv, 1e-6, why);
+    t.below(&n, "rk4 vs dopri: max|ΔR|", dr, 1e-6, why);
+    t.below(&n, "max ‖e_x‖ over 15–20 s (m)", max_ex_after(&out.samples, 15.0), 0.05, "with integral action and exact Ω_c, Ω̇_c the tracking error after the transient is a few cm at most (the integrals still learn Δ, τ = 14.6 s)");
+    Ok(())
+}
+
+pub fn regress(a: RegressArgs) -> Result<(), String> {
+    let mut t = Table(Vec::new());
+    let start = std::time::Instant::now();
+    paper_flip(&mut t)?;
+    no_integral(&mut t)?;
+    attitude_experiment(&mut t)?;
+    large_attitude(&mut t)?;
+    free_body(&mut t)?;
+    if !a.quick {
+        hover(&mut t)?;
+        figure_eight(&mut t)?;
+    }
+    println!("| scene | metric | value | expected | tolerance | ok |");
+    println!("|---|---|---|---|---|---|");
+    let mut failed = 0;
+    for r in &t.0 {
+        let ok = r.ok();
+        if !ok {
+            failed += 1;
+        }
+        let expected = if r.two_sided {
+            format!("{:.10e}", r.expected)
+        } else {
+            "≤ tolerance".to_string()
+        };
+        println!(
+            "| {} | {} | {:.10e} | {} | {:.1e} | {} |",
+            r.scene,
+            r.metric,
+            r.value,
+            expected,
+            r.tol,
+            if ok { "ok" } else { "FAIL" }
+        );
+    }
+    println!();
+    for r in t.0.iter().filter(|r| !r.ok()) {
+        println!(
+            "FAIL {} / {}: tolerance because {}",
+            r.scene, r.metric, r.why
+        );
+    }
+    println!(
+        "{} checks, {} failed, {:.1} s{}; MCAP logs in target/regress/",
+        t.0.len(),
+        failed,
+        start.elapsed().as_secs_f64(),
+        if a.quick { " (--quick)" } else { "" }
+    );
+    if failed > 0 {
+        Err(format!("{failed} regression checks failed"))
+    } else {
+        Ok(())
+    }
+}
