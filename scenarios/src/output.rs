@@ -25,7 +25,8 @@ fn commit(tmp: &Path, path: &Path) -> std::io::Result<()> {
     std::fs::rename(tmp, path)
 }
 
-/// One CSV row. Numbers use Rust's shortest round-trip formatting (`{}` of
+/// One CSV row (at a switch time the row carries the command that acts
+/// from then on, i.e. the new mode). Numbers use Rust's shortest round-trip formatting (`{}` of
 /// f64), so parsing them gives back the same f64.
 pub fn csv_row(s: &Sample) -> String {
     let mut row = String::with_capacity(400);

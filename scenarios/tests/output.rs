@@ -1,0 +1,127 @@
+//! CSV and MCAP output, read back independently.
+
+use std::collections::BTreeMap;
+
+use scenarios::output::{CSV_HEADER, TOPICS, write_csv, write_mcap};
+use scenarios::{RunOptions, builtin, run};
+
+fn tmpdir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("gpid-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
+    let scene = builtin::paper_flip();
+    let out = run(&scene, RunOptions::default()).unwrap();
+    let dir = tmpdir("mcap");
+    let path = dir.join("flip.mcap");
+    write_mcap(&path, &scene, &out).unwrap();
+    assert!(
+        !dir.join("flip.mcap.partial").exists(),
+        "temporary file left behind"
+    );
+    let bytes = std::fs::read(&path).unwrap();
+
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut schemas: BTreeMap<String, String> = BTreeMap::new();
+    let mut last_time: BTreeMap<String, u64> = BTreeMap::new();
+    for msg in mcap::MessageStream::new(&bytes).unwrap() {
+        let msg = msg.unwrap();
+        let topic = msg.channel.topic.clone();
+        assert_eq!(msg.channel.message_encoding, "json");
+        let schema = msg
+            .channel
+            .schema
+            .as_ref()
+            .expect("every channel has a schema");
+        assert_eq!(schema.encoding, "jsonschema");
+        schemas.insert(topic.clone(), schema.name.clone());
+        // Every message is valid JSON; log times never go backwards.
+        let v: serde_json::Value = serde_json::from_slice(&msg.data).unwrap();
+        assert!(v.is_object());
+        let prev = last_time.insert(topic.clone(), msg.log_time).unwrap_or(0);
+        assert!(msg.log_time >= prev, "{topic}: time went backwards");
+        *counts.entry(topic).or_default() += 1;
+    }
+    let n = out.samples.len();
+    assert_eq!(n, 2001, "4 s at 2 ms, both ends");
+    let expect = [
+        ("/vehicle/pose", n, "foxglove.PoseInFrame"),
+        ("/desired/pose", n, "foxglove.PoseInFrame"),
+        ("/tf", 2 * n, "foxglove.FrameTransform"),
+        ("/errors", n, "gpid.Errors"),
+        ("/command", n, "gpid.Command"),
+        ("/integrals", n, "gpid.Integrals"),
+        ("/mode", 1 + out.switches.len(), "gpid.ModeSwitch"),
+    ];
+    assert_eq!(expect.len(), TOPICS.len());
+    for (topic, count, schema) in expect {
+        assert_eq!(counts.get(topic), Some(&count), "{topic}");
+        assert_eq!(
+            schemas.get(topic).map(String::as_str),
+            Some(schema),
+            "{topic}"
+        );
+    }
+    // The summary section is there (the file was finished, not truncated).
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
+    assert_eq!(summary.channels.len(), 7);
+    assert_eq!(
+        summary.stats.unwrap().message_count as usize,
+        counts.values().sum::<usize>()
+    );
+    // A pose message carries a unit quaternion matching the sample's R.
+    let first_pose = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .find(|m| m.channel.topic == "/vehicle/pose" && m.log_time == 1_000_000_000)
+        .expect("pose at t = 1 s");
+    let v: serde_json::Value = serde_json::from_slice(&first_pose.data).unwrap();
+    let q = &v["pose"]["orientation"];
+    let norm: f64 = ["x", "y", "z", "w"]
+        .iter()
+        .map(|k| q[k].as_f64().unwrap().powi(2))
+        .sum();
+    assert!((norm - 1.0).abs() < 1e-12);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn csv_has_the_fixed_header_and_round_trips_exactly() {
+    let mut scene = builtin::paper_flip();
+    scene.duration = 0.6; // across the switch
+    let out = run(&scene, RunOptions::default()).unwrap();
+    let dir = tmpdir("csv");
+    let path = dir.join("flip.csv");
+    write_csv(&path, &out).unwrap();
+    assert!(!dir.join("flip.csv.partial").exists());
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,x1,x2,x3,v1,v2,v3,r11,r12,r13,r21,r22,r23,r31,r32,r33,w1,w2,w3,psi,ex,f,m1,m2,m3,mode"
+    );
+    assert_eq!(CSV_HEADER.split(',').count(), 26);
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), out.samples.len());
+    for (row, s) in rows.iter().zip(&out.samples) {
+        let f: Vec<&str> = row.split(',').collect();
+        assert_eq!(f.len(), 26);
+        let num = |i: usize| f[i].parse::<f64>().unwrap();
+        // Exact round trip: Rust's `{}` prints the shortest repr that
+        // parses back to the same f64.
+        assert_eq!(num(0), s.t);
+        assert_eq!([num(1), num(2), num(3)], s.x);
+        assert_eq!(num(8), s.r[0][1], "r12 is row 1, column 2");
+        assert_eq!(num(12), s.r[1][2], "r23 is row 2, column 3");
+        assert_eq!(num(19), s.psi);
+        assert_eq!(num(21), s.thrust);
+        // At the switch instant the row shows the command about to act:
+        // the new mode's.
+        let mode = if s.t < 0.4 { "attitude" } else { "position" };
+        assert_eq!(f[25], mode, "t = {}", s.t);
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
