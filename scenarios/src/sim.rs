@@ -78,13 +78,15 @@ pub struct RunOutput {
     pub events: usize,
     /// Their times and components.
     pub event_times: Vec<(f64, usize)>,
-    /// Integrator steps.
+    /// Integrator steps (accepted substeps for dopri and halved LGVI
+    /// steps, redone steps at events included).
     pub steps: u64,
     /// Load (vector-field) evaluations.
     pub evaluations: u64,
-    /// Largest commanded thrust.
+    /// Largest commanded thrust over the recorded samples (and t = 0, the
+    /// end).
     pub max_thrust: f64,
-    /// Largest rotor thrust magnitude.
+    /// Largest rotor thrust magnitude over the same samples.
     pub max_rotor: f64,
     /// Wall time of the loop, s.
     pub wall: f64,
@@ -450,10 +452,10 @@ pub fn run_generic<B: Backend>(
             }
             let h = ts - t;
             let before = y;
-            out.steps += 1;
-            stepper
+            let stats = stepper
                 .step(&mut sys, l(t), l(h), &mut y)
                 .map_err(|e| SimError::Step(sys.error.take().unwrap_or_else(|| e.to_string())))?;
+            out.steps += u64::from(stats.substeps.max(1));
             if sat_events && let Some((tc, comp)) = crossing(&mut sys, t, h, &before, &y, sigma) {
                 // Split the step at the crossing: redo [t, tc], restart the
                 // dt grid from tc. The Hermite estimate of tc is refined by
@@ -473,10 +475,10 @@ pub fn run_generic<B: Backend>(
                     stepper.reset();
                     let hc = tc - t;
                     if hc > 0.0 {
-                        stepper
+                        let stats = stepper
                             .step(&mut sys, l(t), l(hc), &mut y)
                             .map_err(|e| SimError::Step(e.to_string()))?;
-                        out.steps += 1;
+                        out.steps += u64::from(stats.substeps.max(1));
                     }
                     let g = y.extra[3 + comp].to_f64_lossless() - target;
                     if g.abs() <= 1e-13 * sigma.max(1.0) {

@@ -159,7 +159,7 @@ pub fn summary(scene: &Scene, out: &RunOutput) {
         l.e_pos.map(|c| (c * 1e4).round() / 1e4),
     );
     println!(
-        "  max thrust {:.3} N, max rotor thrust {:.3} N; {} switches, {} located sat′ events",
+        "  max over recorded samples: thrust {:.3} N, rotor thrust {:.3} N; {} switches, {} located sat′ events",
         out.max_thrust,
         out.max_rotor,
         out.switches.len(),
