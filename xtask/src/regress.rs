@@ -499,7 +499,7 @@ fn figure_eight(t: &mut Table) -> Result<(), String> {
     t.below(&n, "rk4 vs dopri: max|Δx|", dx, 1e-6, why);
     t.below(&n, "rk4 vs dopri: max|Δv|", dv, 1e-6, why);
     t.below(&n, "rk4 vs dopri: max|ΔR|", dr, 1e-6, why);
-    t.below(&n, "max ‖e_x‖ over 15–20 s (m)", max_ex_after(&out.samples, 15.0), 0.05, "with integral action and exact Ω_c, Ω̇_c the tracking error after the transient is a few cm at most (the integrals still learn Δ, τ = 14.6 s)");
+    t.below(&n, "max ‖e_x‖ over 15–20 s (m)", max_ex_after(&out.samples, 15.0), 5e-3, "no closed form for the tracking error of a moving reference; measured 8.8e-4 m, bound ×5 to catch a regression of the feed-forward (exact Ω_c, Ω̇_c) without tripping on integrator changes");
     Ok(())
 }
 
