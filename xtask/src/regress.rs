@@ -469,22 +469,28 @@ fn hover(t: &mut Table) -> Result<(), String> {
     let d = s.disturbance.clone().unwrap();
     let l = &out.last;
     let rel = |a: [f64; 3], b: [f64; 3]| norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]]) / norm(b);
-    let why = "fixed point k_i e_i = Δ_x, k_I e_I = Δ_R (controllers tests); slowest mode τ = 14.6 s leaves e^(−150/14.6) ≈ 3e-5 at 150 s, ×30 margin";
+    let why = "fixed point k_i e_i = Δ_x, k_I e_I = Δ_R (controllers tests); the slowest mode (τ = 14.6 s, gain report) leaves at most e^(−150/14.6) ≈ 3.4e-5 of the initial error at 150 s, ×3 margin";
     t.below(
         &n,
         "‖e_i − Δ_x/k_i‖/‖Δ_x/k_i‖ at 150 s",
         rel(l.e_pos, d.force.map(|c| c / s.gains.k_i)),
-        1e-3,
+        1e-4,
         why,
     );
     t.below(
         &n,
         "‖e_I − Δ_R/k_I‖/‖Δ_R/k_I‖ at 150 s",
         rel(l.e_att, d.moment.map(|c| c / s.gains.k_att_i)),
-        1e-3,
+        1e-4,
         why,
     );
-    t.below(&n, "‖e_x‖ at 150 s (m)", l.ex, 1e-4, why);
+    t.below(
+        &n,
+        "‖e_x‖ at 150 s (m)",
+        l.ex,
+        1e-6,
+        "with the Nominal model's disturbance estimate the position loop has no bias; the slow attitude-integral remainder (≤ 1e-4 relative) moves x far less than 1e-6 m (measured ~1e-14)",
+    );
     Ok(())
 }
 
