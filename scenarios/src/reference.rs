@@ -17,18 +17,19 @@ fn rot(axis: usize, a: f64) -> M {
 }
 
 fn mul(a: M, b: M) -> M {
-    let mut c = [[0.0; 3]; 3];
-    for (i, row) in c.iter_mut().enumerate() {
-        for (j, x) in row.iter_mut().enumerate() {
-            *x = (0..3).map(|k| a[i][k] * b[k][j]).sum();
-        }
-    }
-    c
+    // Written out: this runs four times per integrator step.
+    let r = |i: usize, j: usize| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+    [
+        [r(0, 0), r(0, 1), r(0, 2)],
+        [r(1, 0), r(1, 1), r(1, 2)],
+        [r(2, 0), r(2, 1), r(2, 2)],
+    ]
 }
 
 /// `mᵀ v`.
 fn tmul(m: M, v: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|j| (0..3).map(|k| m[k][j] * v[k]).sum())
+    let c = |j: usize| m[0][j] * v[0] + m[1][j] * v[1] + m[2][j] * v[2];
+    [c(0), c(1), c(2)]
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
