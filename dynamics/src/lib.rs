@@ -20,7 +20,8 @@
 //! integrator needs; nothing in it is specific to quadrotors.
 //!
 //! Shipped vehicles: [`Quadrotor`] (the paper's, with its allocation and
-//! fixed disturbances), [`AttitudeStand`] (the paper's Section VI test
+//! fixed disturbances), [`Hexarotor`] (six rotors, minimum-norm allocation
+//! inverse), [`AttitudeStand`] (the paper's Section VI test
 //! stand: a quadrotor on a spherical joint below its centre of gravity, an
 //! inverted 3D pendulum), and [`FreeRigidBody`] (torque-free, with its
 //! invariants and the exact solution in [`free_body`]).
@@ -44,7 +45,7 @@ use lie::{Backend, M3, Real, S, V3, ops};
 pub mod free_body;
 mod vehicles;
 
-pub use vehicles::{AttitudeStand, FreeRigidBody, Quadrotor, RotorLimits};
+pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
 /// inertial), position and velocity in the inertial frame, angular velocity

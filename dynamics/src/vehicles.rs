@@ -410,3 +410,151 @@ impl<B: Backend> Vehicle<B> for FreeRigidBody<B> {
         Ok(())
     }
 }
+
+/// A flat hexarotor: six rotors at angles `θ_k = k·60°` (k = 0…5, rotor 1
+/// on `+b1`) and arm length `d`, spins alternating so that rotor k's reaction
+/// torque is `(−1)^(k+1) c_τf f_k` (rotor 1 like the quadrotor's rotor 1).
+/// Rotor k at `d(cos θ_k, sin θ_k, 0)` thrusting along `−b3` gives
+/// `M1 = −d sin θ_k f_k`, `M2 = d cos θ_k f_k` — the quadrotor's rows are the
+/// same formula at θ = 0°, 90°, 180°, 270°.
+///
+/// With six actuators for four wrench components the allocation inverse is
+/// not unique; [`Vehicle::actuators_from_wrench`] returns the minimum-norm
+/// rotor thrusts `Aᵀ(AAᵀ)⁻¹w`, and for this symmetric layout
+/// `AAᵀ = diag(6, 3d², 3d², 6c²)`, so it is closed form.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Hexarotor<B: Backend> {
+    base: Quadrotor<B>,
+}
+
+impl<B: Backend> Hexarotor<B> {
+    /// A hexarotor with the same parameters (and validation) as
+    /// [`Quadrotor::new`].
+    pub fn new(
+        mass: S<B>,
+        inertia: M3<B>,
+        gravity: S<B>,
+        arm: S<B>,
+        c_tau_f: S<B>,
+    ) -> Result<Self, DynamicsError> {
+        Ok(Self {
+            base: Quadrotor::new(mass, inertia, gravity, arm, c_tau_f)?,
+        })
+    }
+
+    /// The paper's airframe parameters on a six-rotor layout.
+    pub fn paper() -> Self {
+        Self {
+            base: Quadrotor::paper(),
+        }
+    }
+
+    /// The same vehicle with a constant disturbance.
+    pub fn with_disturbance(self, d: Disturbance<B>) -> Result<Self, DynamicsError> {
+        Ok(Self {
+            base: self.base.with_disturbance(d)?,
+        })
+    }
+
+    /// The same vehicle with per-rotor thrust limits.
+    pub fn with_rotor_limits(self, limits: RotorLimits<B>) -> Result<Self, DynamicsError> {
+        Ok(Self {
+            base: self.base.with_rotor_limits(limits)?,
+        })
+    }
+
+    /// The 4×6 allocation matrix, rows `(f, M1, M2, M3)`.
+    #[allow(clippy::needless_range_loop)] // k is the rotor index in θ_k
+    pub fn allocation(&self) -> [[S<B>; 6]; 4] {
+        let (d, c) = (self.base.arm, self.base.c_tau_f);
+        let mut a = [[S::<B>::zero(); 6]; 4];
+        for k in 0..6 {
+            let th = S::<B>::lit(core::f64::consts::FRAC_PI_3 * k as f64);
+            let spin = if k % 2 == 0 { -c } else { c };
+            a[0][k] = S::<B>::lit(1.0);
+            a[1][k] = -d * th.sin();
+            a[2][k] = d * th.cos();
+            a[3][k] = spin;
+        }
+        a
+    }
+
+    /// Minimum-norm rotor thrusts for `w`.
+    pub fn rotor_thrusts(&self, w: &Wrench<B>) -> [S<B>; 6] {
+        let a = self.allocation();
+        let (d, c) = (self.base.arm, self.base.c_tau_f);
+        let [m1, m2, m3] = B::vec3_to_array(w.moment);
+        let three_d2 = S::<B>::lit(3.0) * d * d;
+        // (AAᵀ)⁻¹ w, then Aᵀ.
+        let y = [
+            w.thrust / S::<B>::lit(6.0),
+            m1 / three_d2,
+            m2 / three_d2,
+            m3 / (S::<B>::lit(6.0) * c * c),
+        ];
+        core::array::from_fn(|k| a[0][k] * y[0] + a[1][k] * y[1] + a[2][k] * y[2] + a[3][k] * y[3])
+    }
+
+    fn wrench_of(&self, f: &[S<B>; 6]) -> Wrench<B> {
+        let a = self.allocation();
+        let row = |r: &[S<B>; 6]| (0..6).fold(S::<B>::zero(), |acc, k| acc + r[k] * f[k]);
+        Wrench {
+            thrust: row(&a[0]),
+            moment: B::vec3(row(&a[1]), row(&a[2]), row(&a[3])),
+        }
+    }
+}
+
+impl<B: Backend> Vehicle<B> for Hexarotor<B> {
+    fn name(&self) -> &str {
+        "hexarotor"
+    }
+    fn mass(&self) -> S<B> {
+        self.base.mass
+    }
+    fn inertia(&self) -> M3<B> {
+        self.base.inertia
+    }
+    fn gravity(&self) -> S<B> {
+        self.base.gravity
+    }
+    fn actuator_count(&self) -> usize {
+        6
+    }
+    fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
+        let f: [S<B>; 6] = u.try_into().map_err(|_| DynamicsError::ActuatorCount {
+            expected: 6,
+            got: u.len(),
+        })?;
+        if f.iter().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::NonFinite {
+                field: "rotor thrusts",
+            });
+        }
+        Ok(self.wrench_of(&f))
+    }
+    fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
+        if out.len() != 6 {
+            return Err(DynamicsError::ActuatorCount {
+                expected: 6,
+                got: out.len(),
+            });
+        }
+        out.copy_from_slice(&self.rotor_thrusts(w));
+        Ok(())
+    }
+    /// Clamps the minimum-norm rotor thrusts and maps back (no
+    /// redistribution through the null space).
+    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
+        match self.base.limits {
+            None => w,
+            Some(l) => {
+                let f = self.rotor_thrusts(&w).map(|x| x.max(l.min).min(l.max));
+                self.wrench_of(&f)
+            }
+        }
+    }
+    fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
+        self.base.disturbance
+    }
+}

@@ -214,3 +214,74 @@ fn f32_glam_matches_f64() {
     }
     let _: S<GlamF32> = 0.0;
 }
+
+/// The hexarotor: the allocation rows reduce to the quadrotor's formula,
+/// the minimum-norm inverse reproduces any wrench, is orthogonal to the
+/// allocation's null space (that is what minimum norm means), and hovers
+/// with six equal thrusts.
+#[test]
+fn hexarotor_minimum_norm_allocation() {
+    use dynamics::Hexarotor;
+    let h = Hexarotor::<B>::paper();
+    let a = h.allocation();
+    let w = Wrench::<B> {
+        thrust: 7.0,
+        moment: <B as Backend>::vec3(0.3, -0.2, 0.04),
+    };
+    let mut f = [0.0; 6];
+    h.actuators_from_wrench(&w, &mut f).unwrap();
+    let back = h.wrench_from_actuators(&f).unwrap();
+    assert!((back.thrust - w.thrust).abs() < 1e-12);
+    assert!(
+        ops::norm::<B>(back.moment - w.moment) < 1e-12,
+        "{:?}",
+        back.moment
+    );
+    // Null-space directions of A (independent construction): alternate
+    // opposite pairs; check A n = 0 first, then f ⟂ n.
+    let nulls = [
+        [1.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0, 1.0, 0.0],
+    ];
+    for n0 in nulls {
+        // Project out the row space numerically: n = n0 − Aᵀ(AAᵀ)⁻¹A n0.
+        let an: Vec<f64> = a
+            .iter()
+            .map(|r| (0..6).map(|k| r[k] * n0[k]).sum())
+            .collect();
+        let mut aat = [[0.0; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                aat[i][j] = (0..6).map(|k| a[i][k] * a[j][k]).sum();
+            }
+        }
+        for i in 0..4 {
+            for j in 0..4 {
+                if i != j {
+                    assert!(
+                        aat[i][j].abs() < 1e-15,
+                        "AAᵀ is diagonal for the symmetric layout"
+                    );
+                }
+            }
+        }
+        let n: Vec<f64> = (0..6)
+            .map(|k| n0[k] - (0..4).map(|i| a[i][k] * an[i] / aat[i][i]).sum::<f64>())
+            .collect();
+        for r in &a {
+            assert!((0..6).map(|k| r[k] * n[k]).sum::<f64>().abs() < 1e-14);
+        }
+        let dot: f64 = (0..6).map(|k| f[k] * n[k]).sum();
+        assert!(dot.abs() < 1e-12, "not minimum norm: f·n = {dot}");
+    }
+    let hover = Wrench::<B> {
+        thrust: h.mass() * h.gravity(),
+        moment: ops::zero::<B>(),
+    };
+    h.actuators_from_wrench(&hover, &mut f).unwrap();
+    for fk in f {
+        assert!((fk - h.mass() * h.gravity() / 6.0).abs() < 1e-14);
+    }
+    let fleet: Vec<Box<dyn Vehicle<B>>> = vec![Box::new(h)];
+    assert_eq!(fleet[0].actuator_count(), 6);
+}

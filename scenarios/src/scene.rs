@@ -82,6 +82,8 @@ pub enum VehicleKind {
     PinnedQuadrotor,
     /// A torque-free rigid body (no actuators, no gravity).
     FreeRigidBody,
+    /// The same airframe with six rotors (minimum-norm allocation).
+    Hexarotor,
 }
 
 /// Vehicle parameters (defaults: the paper's numerical example).
@@ -529,7 +531,12 @@ impl Scene {
                         ),
                     ));
                 }
-                Mode::Position if self.vehicle.kind != VehicleKind::Quadrotor => {
+                Mode::Position
+                    if !matches!(
+                        self.vehicle.kind,
+                        VehicleKind::Quadrotor | VehicleKind::Hexarotor
+                    ) =>
+                {
                     return Err((
                         "mode",
                         format!(

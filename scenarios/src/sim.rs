@@ -8,7 +8,8 @@ use controllers::{
     Segment, SwitchWhen, ThrustCommand, VehicleState,
 };
 use dynamics::{
-    AttitudeStand, Disturbance, FreeRigidBody, Quadrotor, RigidBodyState, Vehicle, Wrench, loads,
+    AttitudeStand, Disturbance, FreeRigidBody, Hexarotor, Quadrotor, RigidBodyState, Vehicle,
+    Wrench, loads,
 };
 use integrators::{Integrator, Load, State, Stepper, StepperConfig, System};
 use lie::num_traits::Float;
@@ -52,8 +53,8 @@ pub struct Sample {
     pub e_att: [f64; 3],
     /// Position integral e_i.
     pub e_pos: [f64; 3],
-    /// Rotor thrusts from the allocation inverse (0 without rotors).
-    pub rotors: [f64; 4],
+    /// Rotor thrusts from the allocation inverse (empty without rotors).
+    pub rotors: Vec<f64>,
 }
 
 /// A mode switch.
@@ -270,6 +271,15 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
         VehicleKind::Quadrotor => Box::new(quad),
         VehicleKind::PinnedQuadrotor => Box::new(AttitudeStand::new(quad, l(0.0)).map_err(err)?),
         VehicleKind::FreeRigidBody => Box::new(FreeRigidBody::new(j).map_err(err)?),
+        VehicleKind::Hexarotor => {
+            let mut hex =
+                Hexarotor::<B>::new(l(ve.mass), j, l(ve.gravity), l(ve.arm), l(ve.c_tau_f))
+                    .map_err(err)?;
+            if let Some(d) = quad.fixed_disturbance() {
+                hex = hex.with_disturbance(d).map_err(err)?;
+            }
+            Box::new(hex)
+        }
     })
 }
 
@@ -653,7 +663,7 @@ fn empty_sample() -> Sample {
         xd: [0.0; 3],
         e_att: [0.0; 3],
         e_pos: [0.0; 3],
-        rotors: [0.0; 4],
+        rotors: Vec::new(),
     }
 }
 
@@ -702,16 +712,19 @@ fn sample<B: Backend>(
                 .sum::<f64>()
                 .sqrt();
         }
-        let mut rotors = [S::<B>::lit(0.0); 4];
-        if vehicle.actuator_count() == 4 {
+        let n = vehicle.actuator_count();
+        if n > 0 {
+            // At most 8 rotors on the stack; more would need a bigger buffer.
+            let mut buf = [S::<B>::lit(0.0); 8];
+            let rotors = &mut buf[..n.min(8)];
             let w = vehicle.saturate(Wrench {
                 thrust: c.thrust,
                 moment: c.moment,
             });
             vehicle
-                .actuators_from_wrench(&w, &mut rotors)
+                .actuators_from_wrench(&w, rotors)
                 .map_err(|e| SimError::Scene(e.to_string()))?;
-            s.rotors = rotors.map(|r| r.to_f64_lossless());
+            s.rotors = rotors.iter().map(|r| r.to_f64_lossless()).collect();
         }
     } else {
         s.rd = s.r;

@@ -144,3 +144,26 @@ fn sampled_control_holds_between_samples_and_converges_to_continuous() {
     assert!(dx < 1e-3 && dr < 1e-2, "{dx:.2e} {dr:.2e}");
     assert!(dx_slow > 10.0 * dx, "a slower controller must deviate more");
 }
+
+/// A vehicle swap through the trait: the hexarotor with the paper's mass
+/// and inertia and no rotor limits produces the same body wrench, so the
+/// flip is the same trajectory (to rounding of the allocation round trip);
+/// its six rotor thrusts sum to the commanded thrust.
+#[test]
+fn hexarotor_flies_the_same_flip() {
+    let quad = builtin::paper_flip();
+    let mut hex = quad.clone();
+    hex.vehicle.kind = scenarios::scene::VehicleKind::Hexarotor;
+    let (a, b) = (
+        run(&quad, RunOptions::default()).unwrap(),
+        run(&hex, RunOptions::default()).unwrap(),
+    );
+    let (dx, _, dr, _) = scenarios::metrics::max_difference(&a.samples, &b.samples);
+    assert!(
+        dx == 0.0 && dr == 0.0,
+        "the body dynamics do not depend on the rotor layout: {dx:e} {dr:e}"
+    );
+    let s = &b.samples[500];
+    assert_eq!(s.rotors.len(), 6);
+    assert!((s.rotors.iter().sum::<f64>() - s.thrust).abs() < 1e-12);
+}

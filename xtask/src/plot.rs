@@ -130,14 +130,15 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
         &series,
     )?;
     written.push(p);
-    if s.iter().any(|x| x.rotors != [0.0; 4]) {
-        let series: Vec<Series> = (0..4)
+    let n_rot = s.first().map_or(0, |x| x.rotors.len());
+    if n_rot > 0 {
+        let series: Vec<Series> = (0..n_rot)
             .map(|k| {
                 (
                     format!("f{}", k + 1),
                     s.iter().map(|x| (x.t, x.rotors[k])).collect(),
-                    COLORS[k],
-                    false,
+                    COLORS[k % 4],
+                    k >= 4,
                 )
             })
             .collect();
