@@ -12,11 +12,13 @@
 //! * `run <scene>` — runs a built-in scene or a scene file, prints a summary,
 //!   writes CSV, MCAP and SVG plots on request (`cargo xtask run --help`).
 //! * `regress [--quick]` — every built-in scene against its expectations.
+//! * `sweep [scene]` — run time against error, every stepper (work-precision).
 
 mod conservation;
 mod plot;
 mod regress;
 mod run;
+mod sweep;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -39,6 +41,8 @@ enum Cmd {
     /// Run every built-in scene and check its metrics against the committed
     /// expectations.
     Regress(regress::RegressArgs),
+    /// Run time against error for every stepper on one scene.
+    Sweep(sweep::SweepArgs),
     /// Table of the last `cargo bench -p lie` run: generic vs hand-written.
     BenchTable,
     /// Build `lie` in every feature combination.
@@ -56,6 +60,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Cmd::Run(a) => run::run(*a),
         Cmd::Regress(a) => regress::regress(a),
+        Cmd::Sweep(a) => sweep::sweep(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
         Cmd::Conservation { steps } => conservation::conservation(steps),

@@ -1,0 +1,203 @@
+//! `cargo xtask sweep [scene]`: run time against error (DESIGN.md, "what
+//! fast and accurate is measured by"). Every stepper over a range of step
+//! sizes (dopri over tolerances) on the same scene; the error is the largest
+//! difference in x and R over a 0.1 s sample grid against Dormand–Prince at
+//! tol 1e-12 (independent of the stepper under test except for dopri
+//! itself). Wall time is the best of three runs (the machine is shared).
+//! Writes `target/sweep/<scene>.csv` and a log–log SVG.
+
+use std::path::PathBuf;
+
+use plotters::prelude::*;
+use scenarios::metrics::max_difference;
+use scenarios::{RunOptions, Scene, run};
+
+/// Options of `cargo xtask sweep`.
+#[derive(clap::Args, Debug)]
+pub struct SweepArgs {
+    /// Scene (built-in name or TOML file); default paper-flip.
+    #[arg(default_value = "paper-flip")]
+    pub scene: String,
+    /// f32 or f64.
+    #[arg(long, value_parser = ["f32", "f64"])]
+    pub scalar: Option<String>,
+    /// glam or nalgebra.
+    #[arg(long, value_parser = ["glam", "nalgebra"])]
+    pub backend: Option<String>,
+}
+
+struct Point {
+    kind: String,
+    param: f64,
+    steps: u64,
+    evals: u64,
+    wall: f64,
+    error: f64,
+}
+
+fn timed(s: &Scene) -> Result<(scenarios::RunOutput, f64), String> {
+    let mut best = f64::INFINITY;
+    let mut last = None;
+    for _ in 0..3 {
+        let out =
+            run(s, RunOptions::default()).map_err(|e| format!("{}: {e}", s.integrator.kind))?;
+        best = best.min(out.wall);
+        last = Some(out);
+    }
+    Ok((last.expect("three runs"), best))
+}
+
+pub fn sweep(a: SweepArgs) -> Result<(), String> {
+    let mut base = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
+    match a.scalar.as_deref() {
+        Some("f32") => base.scalar = scenarios::scene::Scalar::F32,
+        Some("f64") => base.scalar = scenarios::scene::Scalar::F64,
+        _ => {}
+    }
+    match a.backend.as_deref() {
+        Some("glam") => base.backend = scenarios::scene::BackendKind::Glam,
+        Some("nalgebra") => base.backend = scenarios::scene::BackendKind::Nalgebra,
+        _ => {}
+    }
+    base.record.sample = 0.1;
+    let mut reference = base.clone();
+    reference.scalar = scenarios::scene::Scalar::F64;
+    reference.integrator.kind = "dopri".into();
+    reference.integrator.tol = 1e-12;
+    reference.integrator.dt = 0.1;
+    let reference = run(&reference, RunOptions::default()).map_err(|e| e.to_string())?;
+    let mut pts = Vec::new();
+    let grid: &[(&str, &[f64])] = &[
+        ("euler", &[1e-3, 3e-4, 1e-4, 3e-5]),
+        ("lgvi", &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]),
+        ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("dopri", &[1e-4, 1e-6, 1e-8, 1e-10]),
+    ];
+    for (kind, params) in grid {
+        for &p in *params {
+            let mut s = base.clone();
+            s.integrator.kind = kind.to_string();
+            if *kind == "dopri" {
+                s.integrator.tol = p;
+                s.integrator.dt = 0.1;
+            } else {
+                s.integrator.dt = p;
+            }
+            let (out, wall) = match timed(&s) {
+                Ok(x) => x,
+                Err(e) => {
+                    println!("  {kind} {p:e}: failed: {e}");
+                    continue;
+                }
+            };
+            let (dx, _, dr, _) = max_difference(&out.samples, &reference.samples);
+            pts.push(Point {
+                kind: kind.to_string(),
+                param: p,
+                steps: out.steps,
+                evals: out.evaluations,
+                wall,
+                error: dx.max(dr),
+            });
+        }
+    }
+    println!(
+        "{}: error = max(|Δx|, |ΔR|) over 0.1 s samples vs dopri 1e-12; wall = best of 3",
+        base.name
+    );
+    println!("| stepper | dt / tol | steps | evaluations | wall (ms) | error |");
+    println!("|---|---|---|---|---|---|");
+    for p in &pts {
+        println!(
+            "| {} | {:e} | {} | {} | {:.2} | {:.2e} |",
+            p.kind,
+            p.param,
+            p.steps,
+            p.evals,
+            p.wall * 1e3,
+            p.error
+        );
+    }
+    let dir = PathBuf::from("target/sweep");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let csv = dir.join(format!("{}.csv", base.name));
+    let mut text = String::from("stepper,param,steps,evaluations,wall_s,error\n");
+    for p in &pts {
+        text += &format!(
+            "{},{},{},{},{},{}\n",
+            p.kind, p.param, p.steps, p.evals, p.wall, p.error
+        );
+    }
+    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let svg = dir.join(format!("{}.svg", base.name));
+    plot(&svg, &base.name, &pts)?;
+    println!("wrote {} and {}", csv.display(), svg.display());
+    Ok(())
+}
+
+fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let floor = 1e-16;
+    let xs = pts.iter().map(|p| p.wall.max(1e-6).log10());
+    let ys = pts.iter().map(|p| p.error.max(floor).log10());
+    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+        (a.min(y), b.max(y))
+    });
+    let root = SVGBackend::new(path, (720, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let mut c = ChartBuilder::on(&root)
+        .caption(
+            format!("{name}: error against wall time"),
+            ("sans-serif", 18),
+        )
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
+        .map_err(|e| err(&e))?;
+    c.configure_mesh()
+        .x_desc("log10 wall time [s]")
+        .y_desc("log10 max error")
+        .draw()
+        .map_err(|e| err(&e))?;
+    let colors = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+        RGBColor(0, 0, 0),
+    ];
+    let mut kinds: Vec<&str> = pts.iter().map(|p| p.kind.as_str()).collect();
+    kinds.dedup();
+    for (i, k) in kinds.iter().enumerate() {
+        let col = colors[i % colors.len()];
+        let line: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| p.kind == *k)
+            .map(|p| (p.wall.max(1e-6).log10(), p.error.max(floor).log10()))
+            .collect();
+        c.draw_series(LineSeries::new(
+            line.clone(),
+            ShapeStyle::from(col).stroke_width(2),
+        ))
+        .map_err(|e| err(&e))?
+        .label(k.to_string())
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], col));
+        c.draw_series(line.into_iter().map(|p| Circle::new(p, 3, col.filled())))
+            .map_err(|e| err(&e))?;
+    }
+    c.configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
