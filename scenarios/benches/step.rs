@@ -6,10 +6,12 @@
 //! - `position`: hover in position mode under Δ_x, Δ_R,
 //! - `position-no-disturbance`: the same without disturbances.
 //!
+//! and the `position` loop on each (backend, scalar) pair (`pair/…`).
+//!
 //! `cargo bench -p scenarios --bench step`; divide by 1000 for ns/step.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use scenarios::scene::VehicleKind;
+use scenarios::scene::{BackendKind, Scalar, VehicleKind};
 use scenarios::{RunOptions, Scene, builtin, run};
 
 fn quiet(s: &Scene) {
@@ -42,6 +44,20 @@ fn bench(c: &mut Criterion) {
         ("position-no-disturbance", &pos_clean),
     ] {
         g.bench_function(name, |b| b.iter(|| quiet(s)));
+    }
+    g.finish();
+    // The same closed loop on each (backend, scalar) pair.
+    let mut g = c.benchmark_group("pair");
+    for (scalar, backend, name) in [
+        (Scalar::F64, BackendKind::Nalgebra, "nalgebra-f64"),
+        (Scalar::F64, BackendKind::Glam, "glam-f64"),
+        (Scalar::F32, BackendKind::Nalgebra, "nalgebra-f32"),
+        (Scalar::F32, BackendKind::Glam, "glam-f32"),
+    ] {
+        let mut s = pos.clone();
+        s.scalar = scalar;
+        s.backend = backend;
+        g.bench_function(name, |b| b.iter(|| quiet(&s)));
     }
     g.finish();
 }

@@ -464,7 +464,16 @@ pub fn run_generic<B: Backend>(
             let before = y;
             let stats = stepper
                 .step(&mut sys, l(t), l(h), &mut y)
-                .map_err(|e| SimError::Step(sys.error.take().unwrap_or_else(|| e.to_string())))?;
+                .map_err(|e| {
+                    SimError::Step(match sys.error.take() {
+                        // The controller saw a non-finite state first: the
+                        // step before diverged (step too large?).
+                        Some(c) => format!(
+                            "in the step from t = {t} (h = {h}): {c}; the state diverged — try a smaller --dt"
+                        ),
+                        None => e.to_string(),
+                    })
+                })?;
             out.steps += u64::from(stats.substeps.max(1));
             if sat_events && let Some((tc, comp)) = crossing(&mut sys, t, h, &before, &y, sigma) {
                 // Split the step at the crossing: redo [t, tc], restart the
