@@ -84,6 +84,10 @@ pub enum VehicleKind {
     FreeRigidBody,
     /// The same airframe with six rotors (minimum-norm allocation).
     Hexarotor,
+    /// The paper's test stand (Section VI): the quadrotor on a spherical
+    /// joint `stand_height` below its centre of gravity, so gravity tips it
+    /// over (an inverted 3D pendulum); attitude only.
+    AttitudeStand,
 }
 
 /// Vehicle parameters (defaults: the paper's numerical example).
@@ -102,6 +106,9 @@ pub struct VehicleSpec {
     pub arm: f64,
     /// Reaction-torque coefficient c_τf, m.
     pub c_tau_f: f64,
+    /// `attitude-stand` only: height of the centre of gravity above the
+    /// pivot, m.
+    pub stand_height: f64,
 }
 
 impl Default for VehicleSpec {
@@ -113,6 +120,7 @@ impl Default for VehicleSpec {
             gravity: 9.81,
             arm: 0.169,
             c_tau_f: 0.0132,
+            stand_height: 0.0,
         }
     }
 }
@@ -328,6 +336,10 @@ pub struct ControlSpec {
     pub timing: Timing,
     /// Sampled: controller rate, Hz.
     pub rate: f64,
+    /// Add `−M_cfg(R)`, the vehicle's known configuration moment (gravity
+    /// about the stand's pivot), to the commanded moment: the compensation
+    /// term the paper adds for its experiment.
+    pub compensate_configuration_moment: bool,
 }
 
 /// Control timing.
@@ -432,6 +444,7 @@ impl Scene {
         }
         nonneg("gravity", ve.gravity)?;
         pos("arm", ve.arm)?;
+        nonneg("stand_height", ve.stand_height)?;
         if !(ve.c_tau_f.is_finite() && ve.c_tau_f != 0.0) {
             return Err((
                 "c_tau_f",

@@ -146,6 +146,8 @@ struct Loop<'a, B: Backend> {
     /// Sampled control: the held command.
     held: Option<ControlCommand<B, So3Mat<B>>>,
     sampled: bool,
+    /// Cancel the vehicle's configuration moment in the command.
+    compensate: bool,
     inertia_inv: lie::M3<B>,
     evaluations: u64,
     error: Option<String>,
@@ -176,7 +178,14 @@ impl<B: Backend> Loop<'_, B> {
             &ints::<B>(&y.extra),
             self.model,
         ) {
-            Ok(c) => Some(c),
+            Ok(mut c) => {
+                if self.compensate
+                    && let Some(m) = self.vehicle.configuration_moment(&y.body)
+                {
+                    c.moment = c.moment - m;
+                }
+                Some(c)
+            }
             Err(e) => {
                 // A non-finite state: report it after the step (the
                 // integrator sees NaN loads and stops).
@@ -270,6 +279,9 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
     Ok(match ve.kind {
         VehicleKind::Quadrotor => Box::new(quad),
         VehicleKind::PinnedQuadrotor => Box::new(AttitudeStand::new(quad, l(0.0)).map_err(err)?),
+        VehicleKind::AttitudeStand => {
+            Box::new(AttitudeStand::new(quad, l(ve.stand_height)).map_err(err)?)
+        }
         VehicleKind::FreeRigidBody => Box::new(FreeRigidBody::new(j).map_err(err)?),
         VehicleKind::Hexarotor => {
             let mut hex =
@@ -362,6 +374,7 @@ pub fn run_generic<B: Backend>(
         model,
         held: None,
         sampled,
+        compensate: scene.control.compensate_configuration_moment,
         inertia_inv: ops::inverse::<B>(vehicle.inertia())
             .ok_or_else(|| SimError::Scene("inertia is singular".into()))?,
         evaluations: 0,
