@@ -115,7 +115,6 @@ fn error(y: &State<B, 6>, r: &State<B, 6>) -> f64 {
     e
 }
 
-#[test]
 fn closed_loop_orders_with_continuous_control() {
     let t_end = 2.0;
     let mut reference = State::<B, 6>::new(RigidBodyState::at_rest());
@@ -162,4 +161,11 @@ fn closed_loop_orders_with_continuous_control() {
             "{name}: fitted {p:.3}, expected {expected}"
         );
     }
+}
+
+/// Harness-less so that a plain `cargo test` prints the fitted orders
+/// (issue 3 asks for them in the output); a failed fit panics, which fails
+/// the test binary.
+fn main() {
+    closed_loop_orders_with_continuous_control();
 }

@@ -35,7 +35,6 @@ where
     p
 }
 
-#[test]
 fn free_rigid_body_orders_against_the_exact_solution() {
     let t_end = 4.0;
     let ex = exact();
@@ -88,7 +87,6 @@ fn run_heavy<I: Integrator<B, 0>>(integ: &mut I, t_end: f64, n: usize) -> State<
     y
 }
 
-#[test]
 fn heavy_top_orders_against_a_tight_reference() {
     let t_end = 3.0;
     // Reference: Dormand–Prince at tol 1e-13 in one call (adaptive
@@ -128,4 +126,12 @@ fn heavy_top_orders_against_a_tight_reference() {
         state_error::<B, 0>(&run_heavy(&mut Rkmk4, t_end, n), r_ref, w_ref)
     });
     print!("{out}");
+}
+
+/// Harness-less so that a plain `cargo test` prints the fitted orders
+/// (issue 3 asks for them in the output); a failed fit panics, which fails
+/// the test binary.
+fn main() {
+    free_rigid_body_orders_against_the_exact_solution();
+    heavy_top_orders_against_a_tight_reference();
 }
