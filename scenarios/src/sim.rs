@@ -610,9 +610,9 @@ fn crossing<B: Backend>(
     after: &State<B, 6>,
     sigma: f64,
 ) -> Option<(f64, (usize, f64))> {
-    // Only in position mode does sat′ enter Ω_c.
-    let cmd = sys.sched.as_ref()?;
-    let _ = cmd;
+    // Without a controller there is no sat′ (e_i's rate is zero in
+    // attitude mode, so no crossing is seen there either).
+    sys.sched.as_ref()?;
     let mut found: Option<(f64, (usize, f64))> = None;
     let mut rates: Option<([f64; 3], [f64; 3])> = None;
     for k in 0..3 {
