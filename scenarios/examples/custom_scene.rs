@@ -27,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     scene.plan = vec![SegmentSpec {
         mode: Mode::Position,
         until: None,
+        until_psi: None,
         attitude: None,
         position: Some(PositionRef::FigureEight {
             center: [0.0, 0.0, -1.0],

@@ -42,6 +42,7 @@ pub fn paper_flip() -> Scene {
         SegmentSpec {
             mode: Mode::Attitude,
             until: Some(0.4),
+            until_psi: None,
             attitude: Some(AttitudeRef::PaperFlip),
             position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
             thrust: ThrustSpec::PdProjection,
@@ -49,6 +50,7 @@ pub fn paper_flip() -> Scene {
         SegmentSpec {
             mode: Mode::Position,
             until: None,
+            until_psi: None,
             attitude: None,
             position: Some(hold([0.0; 3], [0.0, 1.0, 0.0])),
             thrust: ThrustSpec::Hover,
@@ -83,6 +85,7 @@ pub fn paper_attitude_experiment() -> Scene {
     s.plan = vec![SegmentSpec {
         mode: Mode::Attitude,
         until: None,
+        until_psi: None,
         attitude: Some(AttitudeRef::EulerExperiment {
             amplitude: PI / 9.0,
             frequency: PI,
@@ -120,6 +123,7 @@ pub fn hover_disturbed() -> Scene {
     s.plan = vec![SegmentSpec {
         mode: Mode::Position,
         until: None,
+        until_psi: None,
         attitude: None,
         position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
         thrust: ThrustSpec::Hover,
@@ -143,11 +147,48 @@ pub fn large_attitude_error() -> Scene {
     s.plan = vec![SegmentSpec {
         mode: Mode::Attitude,
         until: None,
+        until_psi: None,
         attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
         position: None,
         thrust: ThrustSpec::Hover,
     }];
     s.record.sample = 0.01;
+    s
+}
+
+/// Tumble recovery with the hybrid scheduler: the free quadrotor starts
+/// 170° off upright; attitude mode (hover thrust) rights it until
+/// Ψ < 0.1, a Ψ-triggered switch located to rounding, then position mode
+/// brings it back to the origin. Δ_x, Δ_R applied.
+pub fn tumble_recovery() -> Scene {
+    let mut s = base(
+        "tumble-recovery",
+        "Hybrid scheduler: recover from 170° in attitude mode until Ψ < 0.1, then return to the origin in position mode.",
+        10.0,
+    );
+    s.disturbance = Some(DisturbanceSpec::paper());
+    let a = 170f64.to_radians() / 2f64.sqrt();
+    s.initial.rotation = [a, a, 0.0];
+    s.plan = vec![
+        SegmentSpec {
+            mode: Mode::Attitude,
+            until: None,
+            until_psi: Some(0.1),
+            attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
+            position: None,
+            thrust: ThrustSpec::Hover,
+        },
+        SegmentSpec {
+            mode: Mode::Position,
+            until: None,
+            until_psi: None,
+            attitude: None,
+            position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
+            thrust: ThrustSpec::Hover,
+        },
+    ];
+    s.integrator.dt = 5e-4;
+    s.record.sample = 0.005;
     s
 }
 
@@ -164,6 +205,7 @@ pub fn figure_eight() -> Scene {
     s.plan = vec![SegmentSpec {
         mode: Mode::Position,
         until: None,
+        until_psi: None,
         attitude: None,
         position: Some(PositionRef::FigureEight {
             center: [0.0, 0.0, -1.0],
@@ -207,6 +249,7 @@ pub fn all() -> Vec<Scene> {
         paper_attitude_stand(),
         hover_disturbed(),
         large_attitude_error(),
+        tumble_recovery(),
         figure_eight(),
         free_rigid_body(),
     ]

@@ -220,9 +220,13 @@ pub enum AccelModel {
 pub struct SegmentSpec {
     /// `attitude` or `position`.
     pub mode: Mode,
-    /// End time, s; absent for the last segment.
+    /// End time, s (absolute); absent for the last segment.
     #[serde(default)]
     pub until: Option<f64>,
+    /// Or: leave the segment when Ψ against its desired attitude drops
+    /// below this (0 < value < 2); the crossing is located to rounding.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until_psi: Option<f64>,
     /// Attitude reference (attitude mode).
     #[serde(default)]
     pub attitude: Option<AttitudeRef>,
@@ -501,6 +505,29 @@ impl Scene {
         let mut last = 0.0;
         for (k, seg) in self.plan.iter().enumerate() {
             let is_last = k + 1 == self.plan.len();
+            if let Some(p) = seg.until_psi {
+                if seg.until.is_some() {
+                    return Err((
+                        "until_psi",
+                        format!("plan[{k}] has both `until` and `until_psi`; give one"),
+                    ));
+                }
+                if !(p.is_finite() && p > 0.0 && p < 2.0) {
+                    return Err((
+                        "until_psi",
+                        format!("plan[{k}] `until_psi` = {p}: must be in (0, 2)"),
+                    ));
+                }
+                if is_last {
+                    return Err((
+                        "until_psi",
+                        format!(
+                            "plan[{k}] is the last segment: `until_psi` has nothing to switch to"
+                        ),
+                    ));
+                }
+                continue;
+            }
             match seg.until {
                 Some(u) if !(u.is_finite() && u > last) => {
                     return Err((

@@ -359,9 +359,11 @@ pub fn run_generic<B: Backend>(
                     reference: pos_refs[k].as_deref().expect("validated"),
                 },
             },
-            until: s
-                .until
-                .map_or(SwitchWhen::Never, |u| SwitchWhen::Time(l(u))),
+            until: match (s.until, s.until_psi) {
+                (Some(u), _) => SwitchWhen::Time(l(u)),
+                (None, Some(p)) => SwitchWhen::PsiBelow(l(p)),
+                (None, None) => SwitchWhen::Never,
+            },
         })
         .collect();
     let sampled = scene.control.timing == Timing::Sampled && !plan.is_empty();
@@ -539,6 +541,61 @@ pub fn run_generic<B: Backend>(
             if forced_for_next_step {
                 sys.pg.sat_branch = [SatBranch::Auto; 3];
                 forced_for_next_step = false;
+            }
+            // A Ψ-triggered switch: when Ψ drops below the threshold inside
+            // this step, bisect on redone steps for the crossing and switch
+            // there (the scheduler reads the Ψ of the latest command).
+            let psi_threshold = sys
+                .sched
+                .as_ref()
+                .and_then(|sc| scene.plan.get(sc.active()))
+                .and_then(|sg| sg.until_psi);
+            if let Some(th) = psi_threshold {
+                let psi_at = |sys: &mut Loop<'_, B>, tt: f64, yy: &State<B, 6>| {
+                    sys.command(l(tt), yy).map(|c| c.psi.to_f64_lossless())
+                };
+                if psi_at(&mut sys, ts, &y).is_some_and(|p| p < th) {
+                    let (mut lo, mut hi) = (0.0, h);
+                    let mut y_hi = y;
+                    while hi - lo > 1e-12 * h.max(1e-300) && hi - lo > f64::EPSILON * ts {
+                        let mid = 0.5 * (lo + hi);
+                        let mut ym = before;
+                        stepper.reset();
+                        stepper
+                            .step(&mut sys, l(t), l(mid), &mut ym)
+                            .map_err(|e| SimError::Step(e.to_string()))?;
+                        if psi_at(&mut sys, t + mid, &ym).is_some_and(|p| p < th) {
+                            hi = mid;
+                            y_hi = ym;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    let tc = t + hi;
+                    y = y_hi;
+                    // The latest command (at tc) has Ψ < threshold.
+                    psi_at(&mut sys, tc, &y);
+                    if let Some(s) = sys.sched.as_mut() {
+                        let mut it = ints::<B>(&y.extra);
+                        if let Some(sw) = s.advance(l(tc), &mut it) {
+                            out.switches.push(SwitchRecord {
+                                t: tc,
+                                from: sw.from,
+                                to: sw.to,
+                            });
+                            let (a, p) = (B::vec3_to_array(it.e_att), B::vec3_to_array(it.e_pos));
+                            y.extra = [a[0], a[1], a[2], p[0], p[1], p[2]];
+                        }
+                    }
+                    if sampled {
+                        sys.held = sys.command(l(tc), &y);
+                    }
+                    stepper.reset();
+                    t = tc;
+                    seg_start = t;
+                    j = 0;
+                    continue;
+                }
             }
             t = ts;
             j += 1;
