@@ -183,6 +183,9 @@ pub struct GainsSpec {
     pub sigma: f64,
     /// Acceleration model for Ω_c, Ω̇_c.
     pub acceleration_model: AccelModel,
+    /// Clamped anti-windup for e_i (off: the paper's law, e_i integrates
+    /// freely and only sat_σ(e_i) enters the thrust).
+    pub clamp_integral: bool,
 }
 
 impl Default for GainsSpec {
@@ -198,6 +201,7 @@ impl Default for GainsSpec {
             c2: 0.8,
             sigma: 1.0,
             acceleration_model: AccelModel::Nominal,
+            clamp_integral: false,
         }
     }
 }

@@ -311,7 +311,7 @@ pub fn run_generic<B: Backend>(
         gravity: l(ve.gravity),
     };
     let mut pg = PositionGains::<B>::uniform(l(g.k_x), l(g.k_v), l(g.k_i), l(g.c1), l(g.sigma));
-    pg.clamp_integral = false;
+    pg.clamp_integral = g.clamp_integral;
     let ag = AttitudeGains::<B>::uniform(l(g.k_r), l(g.k_omega), l(g.k_att_i), l(g.c2));
     let model = match g.acceleration_model {
         AccelModel::Nominal => AccelerationModel::Nominal,
