@@ -9,9 +9,14 @@
 //!
 //! - lands exactly on every mode switch, record sample and control sample
 //!   (a step is shortened to hit them; times are `k·Δ`, never sums);
+//! - switches flight modes at their `until` time or, for `until_psi`, at
+//!   the located instant Ψ drops below the threshold (bisection on redone
+//!   steps);
 //! - locates the sat′ discontinuities inside a segment (a component of
 //!   e_i crossing ±σ) by cubic Hermite interpolation of e_i, ė_i over the
-//!   step and splits the step there, for every stepper;
+//!   step, refines it by Newton on the integrated e_i and splits the step
+//!   there, for every stepper, integrating each side on its own branch of
+//!   sat′ (see `controllers::SatBranch`);
 //! - pays only for what the scene uses: a pinned vehicle integrates no
 //!   translation, a vehicle without disturbance evaluates none, a run with
 //!   `record = false` keeps only the final state.
