@@ -64,36 +64,12 @@ pub fn write_csv(path: &Path, out: &RunOutput) -> std::io::Result<()> {
     commit(&tmp, path)
 }
 
-/// Unit quaternion `(x, y, z, w)` of a rotation matrix (Shepperd's method:
-/// the largest of the four pivots, so no cancellation).
+/// Unit quaternion `(x, y, z, w)` (Foxglove's order, `w ≥ 0`) of a rotation
+/// matrix given by rows, through `lie::shepperd` (largest pivot, no
+/// cancellation near angle π).
 pub fn quaternion_xyzw(r: &[[f64; 3]; 3]) -> [f64; 4] {
-    let tr = r[0][0] + r[1][1] + r[2][2];
-    let (w, x, y, z);
-    if tr >= r[0][0] && tr >= r[1][1] && tr >= r[2][2] {
-        let s = 2.0 * (1.0 + tr).sqrt();
-        w = 0.25 * s;
-        x = (r[2][1] - r[1][2]) / s;
-        y = (r[0][2] - r[2][0]) / s;
-        z = (r[1][0] - r[0][1]) / s;
-    } else if r[0][0] >= r[1][1] && r[0][0] >= r[2][2] {
-        let s = 2.0 * (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt();
-        w = (r[2][1] - r[1][2]) / s;
-        x = 0.25 * s;
-        y = (r[0][1] + r[1][0]) / s;
-        z = (r[0][2] + r[2][0]) / s;
-    } else if r[1][1] >= r[2][2] {
-        let s = 2.0 * (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt();
-        w = (r[0][2] - r[2][0]) / s;
-        x = (r[0][1] + r[1][0]) / s;
-        y = 0.25 * s;
-        z = (r[1][2] + r[2][1]) / s;
-    } else {
-        let s = 2.0 * (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt();
-        w = (r[1][0] - r[0][1]) / s;
-        x = (r[0][2] + r[2][0]) / s;
-        y = (r[1][2] + r[2][1]) / s;
-        z = 0.25 * s;
-    }
+    use lie::{NalgebraF64, ops};
+    let [w, x, y, z] = lie::shepperd::<NalgebraF64>(ops::from_elems::<NalgebraF64>(*r));
     let n = (w * w + x * x + y * y + z * z).sqrt();
     let sg = if w < 0.0 { -1.0 } else { 1.0 };
     [sg * x / n, sg * y / n, sg * z / n, sg * w / n]

@@ -145,22 +145,10 @@ pub fn position<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
     r
 }
 
-/// The rotation with rotation vector `phi`, rows, in f64.
+/// The rotation with rotation vector `phi`, rows, in f64 (`lie`'s exp on
+/// nalgebra-f64).
 pub fn rotation_f64(phi: [f64; 3]) -> M {
-    let th = (phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]).sqrt();
-    if th == 0.0 {
-        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    }
-    let k = phi.map(|c| c / th);
-    let (s, c) = th.sin_cos();
-    let mut r = [[0.0; 3]; 3];
-    let kx = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
-    #[allow(clippy::needless_range_loop)]
-    for i in 0..3 {
-        for j in 0..3 {
-            let id = if i == j { 1.0 } else { 0.0 };
-            r[i][j] = id + s * kx[i][j] + (1.0 - c) * (k[i] * k[j] - id);
-        }
-    }
-    r
+    use lie::{Backend, NalgebraF64, Rotation};
+    let r = So3Mat::<NalgebraF64>::exp(NalgebraF64::vec3(phi[0], phi[1], phi[2])).matrix();
+    lie::ops::elems::<NalgebraF64>(r)
 }

@@ -16,7 +16,7 @@ use lie::num_traits::Float;
 use lie::{Backend, Real, Rotation, S, So3Mat, V3, ops};
 
 use crate::reference::{self, m, v};
-use crate::scene::{AccelModel, Mode, Scene, ThrustSpec, Timing, VehicleKind};
+use crate::scene::{AccelModel, AttitudeRef, Mode, Scene, ThrustSpec, Timing, VehicleKind};
 
 /// One recorded sample, in f64 whatever the simulation scalar.
 #[derive(Clone, Debug, PartialEq)]
@@ -325,9 +325,21 @@ pub fn run_generic<B: Backend>(
         .plan
         .iter()
         .map(|s| {
-            s.attitude
-                .clone()
-                .map(|a| Box::new(move |t: S<B>| reference::attitude::<B>(&a, t)) as AttF<'_, B>)
+            s.attitude.clone().map(|a| match a {
+                // A constant reference is computed once, not per evaluation.
+                AttitudeRef::Hold { rotation } => {
+                    let rd = m::<B>(reference::rotation_f64(rotation));
+                    let z = ops::zero::<B>();
+                    Box::new(move |_t: S<B>| AttitudeReference {
+                        rd,
+                        omega_d: z,
+                        omega_d_dot: z,
+                    }) as AttF<'_, B>
+                }
+                other => {
+                    Box::new(move |t: S<B>| reference::attitude::<B>(&other, t)) as AttF<'_, B>
+                }
+            })
         })
         .collect();
     let pos_refs: Vec<Option<PosF<'_, B>>> = scene
