@@ -15,6 +15,11 @@
 //! modes into a plan switched by time or by `Ψ`. It does not own dynamics
 //! or integration.
 //!
+//! The same two laws are also [`Mode`] implementations ([`AttitudeMode`],
+//! [`PositionMode`]): the trait a simulation schedules, which a user's own
+//! flight mode implements too (see the [`mode`](Mode) docs for how the
+//! integral states are shared and what carries across a switch).
+//!
 //! `#![no_std]` without the `std` feature (use `libm`); no heap anywhere.
 //! Conventions as in the paper: `e3` points down, thrust acts along `−b3`.
 
@@ -23,12 +28,17 @@
 
 mod attitude_pid;
 mod gain_check;
+mod mode;
 mod mode_scheduler;
 mod position_pid;
 mod vec;
 
 pub use attitude_pid::{AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control};
 pub use gain_check::{Condition, GainBounds, GainReport, check_gains};
+pub use mode::{
+    AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition, Mode,
+    ModeOutput, PositionMode, PositionSource,
+};
 pub use mode_scheduler::{
     ControlCommand, FlightMode, IntegralStates, Scheduler, Segment, Switch, SwitchWhen,
     ThrustCommand,

@@ -31,7 +31,10 @@
 //! `wrench_from_actuators` and `actuators_from_wrench` are required; override
 //! `translates` (false for a pinned body), `saturate` (actuator limits),
 //! `disturbance` and `configuration_moment` (loads that depend on the
-//! attitude, such as gravity about a pivot) when they apply. The defaults cost
+//! attitude, such as gravity about a pivot) when they apply. A vehicle with
+//! actuator dynamics declares internal states (`state_count`,
+//! `initial_states`, `state_rates`) and says what its actuators deliver
+//! (`applied_wrench`); simulations integrate those states with the body. The defaults cost
 //! nothing: a vehicle that returns `None` from `disturbance` is never asked to
 //! add one. `examples/attitude_stand.rs` is a complete second vehicle.
 
@@ -216,6 +219,34 @@ pub trait Vehicle<B: Backend>: Send + Sync {
     fn configuration_moment(&self, _state: &RigidBodyState<B>) -> Option<V3<B>> {
         None
     }
+    /// Number of internal states of the vehicle (rotor speeds or thrusts
+    /// with a first-order lag, motor currents, …) that an integrator must
+    /// advance with the body. The default, 0, costs nothing: such a vehicle
+    /// is never asked for rates.
+    fn state_count(&self) -> usize {
+        0
+    }
+    /// Values of the internal states at the start of a run, given the
+    /// first command (e.g. rotors already spinning at the commanded
+    /// thrust). `states` has `state_count()` entries, zero on entry.
+    fn initial_states(&self, _commanded: &Wrench<B>, _states: &mut [S<B>]) {}
+    /// Time derivatives of the internal states under the commanded wrench,
+    /// written into `rates` (`state_count()` entries).
+    fn state_rates(
+        &self,
+        _t: S<B>,
+        _body: &RigidBodyState<B>,
+        _commanded: &Wrench<B>,
+        _states: &[S<B>],
+        _rates: &mut [S<B>],
+    ) {
+    }
+    /// The wrench the actuators deliver when `commanded` is asked of them
+    /// in internal state `states`. The default (actuators that respond at
+    /// once) is [`Vehicle::saturate`] of the command.
+    fn applied_wrench(&self, commanded: &Wrench<B>, _states: &[S<B>]) -> Wrench<B> {
+        self.saturate(*commanded)
+    }
     /// Whether `disturbance` or `configuration_moment` read the velocities
     /// `v` or `Ω` (drag, say). Implicit integrators (LGVI) then iterate
     /// their end-point loads; the default `false` lets them evaluate once.
@@ -234,7 +265,20 @@ pub fn loads<B: Backend>(
     state: &RigidBodyState<B>,
     wrench: &Wrench<B>,
 ) -> Loads<B> {
-    let w = vehicle.saturate(*wrench);
+    loads_applied(vehicle, t, state, vehicle.saturate(*wrench))
+}
+
+/// Total loads when the actuators deliver `applied` (already through
+/// [`Vehicle::saturate`] or [`Vehicle::applied_wrench`]): what [`loads`]
+/// computes after the saturation, for vehicles with internal states.
+#[inline]
+pub fn loads_applied<B: Backend>(
+    vehicle: &dyn Vehicle<B>,
+    t: S<B>,
+    state: &RigidBodyState<B>,
+    applied: Wrench<B>,
+) -> Loads<B> {
+    let w = applied;
     let [_, _, b3] = B::mat3_cols(state.r);
     let zero = S::<B>::zero();
     let mut force = if vehicle.translates() {

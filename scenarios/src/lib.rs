@@ -1,4 +1,13 @@
-//! Scenes of the geometric PID paper, run end to end.
+//! Scenes of the geometric PID paper, run end to end, and the simulation
+//! loop any vehicle, flight mode, reference and integrator plug into.
+//!
+//! [`Simulation`] is the library: a `Box<dyn Vehicle<B>>` (with internal
+//! states if it has actuator dynamics), a plan of [`Segment`]s (any
+//! [`controllers::Mode`], left at a time, on `Ψ`, or on a user
+//! [`Condition`]), any integrator, continuous or sampled [`Control`], and
+//! recording; it returns a [`RunOutput`] that [`output`] writes as CSV or
+//! MCAP. A [`Scene`] is one front end of it (a [`Registry`] adds a
+//! program's own vehicle kinds to scene files).
 //!
 //! A [`Scene`] is data (vehicle, disturbances, initial state, flight-mode
 //! plan with references, gains, integrator and step, control timing, scalar
@@ -9,11 +18,11 @@
 //!
 //! - lands exactly on every mode switch, record sample and control sample
 //!   (a step is shortened to hit them; times are `k·Δ`, never sums);
-//! - switches flight modes at their `until` time or, for `until_psi`, at
-//!   the located instant Ψ drops below the threshold (bisection on redone
-//!   steps);
-//! - locates the sat′ discontinuities inside a segment (a component of
-//!   e_i crossing ±σ) by cubic Hermite interpolation of e_i, ė_i over the
+//! - switches flight modes at their `until` time or, for `until_psi` (and
+//!   a user condition), at the located instant Ψ drops below the threshold
+//!   (bisection on redone steps);
+//! - locates the breakpoints of the active mode inside a segment (the
+//!   paper's sat′: a component of e_i crossing ±σ) by cubic Hermite interpolation of e_i, ė_i over the
 //!   step, refines it by Newton on the integrated e_i and splits the step
 //!   there, for every stepper, integrating each side on its own branch of
 //!   sat′ (see `controllers::SatBranch`);
@@ -27,47 +36,35 @@
 #![deny(missing_docs)]
 
 pub mod builtin;
+mod from_scene;
 pub mod metrics;
 pub mod output;
 pub mod reference;
 pub mod scene;
 mod sim;
 
+pub use from_scene::{Registry, SceneAttitude, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};
-pub use sim::{RunOptions, RunOutput, Sample, SimError, SwitchRecord, run_generic};
+pub use sim::{
+    Condition, Control, RunOptions, RunOutput, Sample, Segment, SimError, Simulation,
+    SimulationBuilder, SwitchRecord, Until,
+};
 
-use lie::{GlamF32, GlamF64, NalgebraF32, NalgebraF64};
-use scene::{BackendKind, Scalar};
+use lie::Backend;
 
-/// Runs `scene` with its scalar and backend.
+/// Runs `scene` with its scalar and backend (built-in vehicle kinds; a
+/// program's own kinds go through [`Registry::run`]).
 pub fn run(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
-    match (scene.scalar, scene.backend) {
-        (Scalar::F64, BackendKind::Nalgebra) => run_generic::<NalgebraF64>(scene, opts),
-        (Scalar::F64, BackendKind::Glam) => run_generic::<GlamF64>(scene, opts),
-        (Scalar::F32, BackendKind::Nalgebra) => run_generic::<NalgebraF32>(scene, opts),
-        (Scalar::F32, BackendKind::Glam) => run_generic::<GlamF32>(scene, opts),
-    }
+    Registry::new().run(scene, opts)
 }
 
-/// A built-in scene by name, or a TOML file by path.
+/// Runs `scene` on backend `B` (built-in vehicle kinds).
+pub fn run_generic<B: Backend>(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
+    Registry::new().run_generic::<B>(scene, opts)
+}
+
+/// A built-in scene by name, or a TOML file by path (built-in vehicle
+/// kinds; see [`Registry::load`]).
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
-    if let Some(s) = builtin::by_name(name_or_path) {
-        return Ok(s);
-    }
-    let path = std::path::Path::new(name_or_path);
-    if path.exists() || name_or_path.ends_with(".toml") {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            message: format!("cannot read scene file `{name_or_path}`: {e}"),
-            location: None,
-        })?;
-        return Scene::from_toml(&text, name_or_path);
-    }
-    let names: Vec<String> = builtin::all().into_iter().map(|s| s.name).collect();
-    Err(SceneError {
-        message: format!(
-            "no scene `{name_or_path}`: not a built-in ({}) and not a file",
-            names.join(", ")
-        ),
-        location: None,
-    })
+    Registry::new().load(name_or_path)
 }

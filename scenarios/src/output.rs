@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::json;
 
-use crate::{RunOutput, Sample, Scene};
+use crate::{RunOutput, Sample};
 
 /// The CSV header, fixed.
 pub const CSV_HEADER: &str =
@@ -42,12 +42,21 @@ pub fn csv_row(s: &Sample) -> String {
     push(s.ex);
     push(s.thrust);
     s.moment.iter().for_each(|&c| push(c));
-    row.push_str(if s.position_mode {
-        "position"
-    } else {
-        "attitude"
-    });
+    row.push_str(s.mode);
+    for &c in &s.vehicle_states {
+        row.push_str(&format!(",{c}"));
+    }
     row
+}
+
+/// The CSV header for a vehicle with `n` internal states: [`CSV_HEADER`]
+/// followed by `s1 … sn`.
+pub fn csv_header(n: usize) -> String {
+    let mut h = CSV_HEADER.to_string();
+    for k in 1..=n {
+        h.push_str(&format!(",s{k}"));
+    }
+    h
 }
 
 /// Writes the samples as CSV.
@@ -55,7 +64,8 @@ pub fn write_csv(path: &Path, out: &RunOutput) -> std::io::Result<()> {
     let tmp = temp_path(path);
     {
         let mut w = BufWriter::new(File::create(&tmp)?);
-        writeln!(w, "{CSV_HEADER}")?;
+        let n = out.samples.first().map_or(0, |s| s.vehicle_states.len());
+        writeln!(w, "{}", csv_header(n))?;
         for s in &out.samples {
             writeln!(w, "{}", csv_row(s))?;
         }
@@ -144,7 +154,7 @@ fn q4(q: [f64; 4]) -> serde_json::Value {
 /// vehicle pose) so Foxglove's 3D panel shows the vehicle upright, and
 /// JSON channels (with JSON schemas) for errors, commands, integral states
 /// and mode switches for its plot panel.
-pub fn write_mcap(path: &Path, scene: &Scene, out: &RunOutput) -> Result<(), String> {
+pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<(), String> {
     let tmp = temp_path(path);
     let result = (|| -> Result<(), mcap::McapError> {
         let file = BufWriter::new(File::create(&tmp)?);
@@ -235,13 +245,8 @@ pub fn write_mcap(path: &Path, scene: &Scene, out: &RunOutput) -> Result<(), Str
                 )
             };
         let world_to_ned = [1.0, 0.0, 0.0, 0.0]; // half turn about x, (x, y, z, w)
-        let mode_name = |k: usize| {
-            scene.plan.get(k).map_or("none", |s| match s.mode {
-                crate::scene::Mode::Attitude => "attitude",
-                crate::scene::Mode::Position => "position",
-            })
-        };
-        if !scene.plan.is_empty() {
+        let mode_name = |k: usize| out.mode_names.get(k).copied().unwrap_or("none");
+        if !out.mode_names.is_empty() {
             put(
                 &mut w,
                 6,

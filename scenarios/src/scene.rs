@@ -1,5 +1,7 @@
 //! Scenes as data: Rust structs that are also the TOML schema.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are
@@ -69,9 +71,10 @@ pub enum BackendKind {
     Glam,
 }
 
-/// Which vehicle.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+/// Which vehicle. In a scene file a kebab-case name: one of the built-ins
+/// below, or a kind a program registered with [`crate::Registry::vehicle`]
+/// ([`VehicleKind::Custom`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum VehicleKind {
     /// The paper's quadrotor, free to translate.
     #[default]
@@ -88,6 +91,52 @@ pub enum VehicleKind {
     /// joint `stand_height` below its centre of gravity, so gravity tips it
     /// over (an inverted 3D pendulum); attitude only.
     AttitudeStand,
+    /// A kind registered by a program ([`crate::Registry::vehicle`]), by
+    /// name; its own parameters go in `[vehicle.params]`.
+    Custom(String),
+}
+
+impl VehicleKind {
+    /// The built-in kinds.
+    pub const BUILT_IN: [VehicleKind; 5] = [
+        VehicleKind::Quadrotor,
+        VehicleKind::PinnedQuadrotor,
+        VehicleKind::FreeRigidBody,
+        VehicleKind::Hexarotor,
+        VehicleKind::AttitudeStand,
+    ];
+
+    /// The name used in scene files.
+    pub fn name(&self) -> &str {
+        match self {
+            VehicleKind::Quadrotor => "quadrotor",
+            VehicleKind::PinnedQuadrotor => "pinned-quadrotor",
+            VehicleKind::FreeRigidBody => "free-rigid-body",
+            VehicleKind::Hexarotor => "hexarotor",
+            VehicleKind::AttitudeStand => "attitude-stand",
+            VehicleKind::Custom(name) => name,
+        }
+    }
+
+    /// The kind called `name`: a built-in, else [`VehicleKind::Custom`].
+    pub fn from_name(name: &str) -> Self {
+        Self::BUILT_IN
+            .into_iter()
+            .find(|k| k.name() == name)
+            .unwrap_or_else(|| VehicleKind::Custom(name.to_string()))
+    }
+}
+
+impl Serialize for VehicleKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for VehicleKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(VehicleKind::from_name(&String::deserialize(d)?))
+    }
 }
 
 /// Vehicle parameters (defaults: the paper's numerical example).
@@ -109,6 +158,10 @@ pub struct VehicleSpec {
     /// `attitude-stand` only: height of the centre of gravity above the
     /// pivot, m.
     pub stand_height: f64,
+    /// Parameters of a registered kind (`[vehicle.params]`, name = number);
+    /// empty for the built-ins.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, f64>,
 }
 
 impl Default for VehicleSpec {
@@ -121,6 +174,7 @@ impl Default for VehicleSpec {
             arm: 0.169,
             c_tau_f: 0.0132,
             stand_height: 0.0,
+            params: BTreeMap::new(),
         }
     }
 }
@@ -398,6 +452,16 @@ impl std::error::Error for SceneError {}
 impl Scene {
     /// Parses a TOML scene; `origin` names the file in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, SceneError> {
+        Self::from_toml_with_kinds(text, origin, &[])
+    }
+
+    /// [`Scene::from_toml`] accepting the registered vehicle kinds
+    /// `custom_kinds` besides the built-ins.
+    pub fn from_toml_with_kinds(
+        text: &str,
+        origin: &str,
+        custom_kinds: &[&str],
+    ) -> Result<Self, SceneError> {
         let scene: Scene = toml::from_str(text).map_err(|e| {
             let location = e.span().map(|sp| {
                 let (line, col) = line_col(text, sp.start);
@@ -408,16 +472,47 @@ impl Scene {
                 location,
             }
         })?;
-        scene.validate().map_err(|(key, msg)| SceneError {
-            message: msg,
-            location: locate_key(text, key).map(|(l, c)| format!("{origin}:{l}:{c}")),
-        })?;
+        scene
+            .validate()
+            .and_then(|()| scene.check_kind(custom_kinds))
+            .map_err(|(key, msg)| SceneError {
+                message: msg,
+                location: locate_key(text, key).map(|(l, c)| format!("{origin}:{l}:{c}")),
+            })?;
         Ok(scene)
     }
 
     /// Serialises to TOML (the inverse of [`Scene::from_toml`]).
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
+    }
+
+    /// Checks that the vehicle kind is a built-in or one of `custom_kinds`.
+    pub fn check_kind(&self, custom_kinds: &[&str]) -> Result<(), (&'static str, String)> {
+        if let VehicleKind::Custom(name) = &self.vehicle.kind
+            && !custom_kinds.contains(&name.as_str())
+        {
+            let mut names: Vec<&str> = VehicleKind::BUILT_IN.iter().map(|k| k.name()).collect();
+            names.extend_from_slice(custom_kinds);
+            return Err((
+                "kind",
+                format!(
+                    "vehicle `kind` = \"{name}\": expected one of {} (a program can register \
+                     its own kinds with scenarios::Registry)",
+                    names.join(", ")
+                ),
+            ));
+        }
+        if !matches!(self.vehicle.kind, VehicleKind::Custom(_)) && !self.vehicle.params.is_empty() {
+            return Err((
+                "params",
+                format!(
+                    "`vehicle.params` is for registered kinds; the built-in `{}` takes none",
+                    self.vehicle.kind.name()
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Checks values; on failure returns the dotted key and a message naming
@@ -578,14 +673,14 @@ impl Scene {
                 Mode::Position
                     if !matches!(
                         self.vehicle.kind,
-                        VehicleKind::Quadrotor | VehicleKind::Hexarotor
+                        VehicleKind::Quadrotor | VehicleKind::Hexarotor | VehicleKind::Custom(_)
                     ) =>
                 {
                     return Err((
                         "mode",
                         format!(
-                            "plan[{k}] is `position` mode but the vehicle {:?} cannot translate",
-                            self.vehicle.kind
+                            "plan[{k}] is `position` mode but the vehicle `{}` cannot translate",
+                            self.vehicle.kind.name()
                         ),
                     ));
                 }

@@ -17,7 +17,7 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
     let out = run(&scene, RunOptions::default()).unwrap();
     let dir = tmpdir("mcap");
     let path = dir.join("flip.mcap");
-    write_mcap(&path, &scene, &out).unwrap();
+    write_mcap(&path, &out).unwrap();
     assert!(
         !dir.join("flip.mcap.partial").exists(),
         "temporary file left behind"

@@ -91,7 +91,7 @@ fn dopri(scene: &Scene) -> Result<RunOutput, String> {
 fn log_mcap(scene: &Scene, out: &RunOutput) -> Result<(), String> {
     let dir = PathBuf::from("target/regress");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    output::write_mcap(&dir.join(format!("{}.mcap", scene.name)), scene, out)
+    output::write_mcap(&dir.join(format!("{}.mcap", scene.name)), out)
 }
 
 fn norm(v: [f64; 3]) -> f64 {

@@ -200,7 +200,7 @@ pub fn run(a: RunArgs) -> Result<(), String> {
         println!("  wrote {} ({} rows)", p.display(), out.samples.len());
     }
     if let Some(p) = &a.mcap {
-        output::write_mcap(p, &scene, &out)?;
+        output::write_mcap(p, &out)?;
         println!("  wrote {}", p.display());
     }
     if let Some(dir) = &a.plot {

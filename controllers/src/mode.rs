@@ -1,0 +1,411 @@
+//! Flight modes as a trait: the paper's attitude and position PID are two
+//! implementations of [`Mode`], and a user's own law (a landing mode, a
+//! rate mode, a different attitude controller) is a third, scheduled and
+//! simulated the same way.
+//!
+//! # Integral states
+//! A mode owns no hidden state that a simulation must integrate: it reads
+//! its integral states from a slice the caller holds and writes their time
+//! derivatives into another, so continuous control (integrate the rates with
+//! the vehicle) and sampled control (multiply by the period) both work.
+//! Every mode of a plan sees the *same* register of integral states, slots
+//! `0..integral_count()`; what one mode leaves there is what the next one
+//! finds. What carries across a switch is therefore the modes' decision,
+//! made in [`Mode::enter`]: the paper's two modes share the layout
+//! `[e_I (3), e_i (3)]`, so the attitude integral `e_I` carries across every
+//! switch, and [`PositionMode`] zeroes `e_i` when it is entered (as the
+//! paper's scheduler does when position mode first starts).
+//!
+//! # References
+//! References are anything implementing [`AttitudeSource`] or
+//! [`PositionSource`]; every closure `Fn(t) -> AttitudeReference` or
+//! `Fn(t) -> PositionReference` is one, so a spline or a recorded path
+//! needs no new type.
+
+use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_control};
+use crate::position_pid::{
+    AccelerationModel, PositionGains, PositionReference, SatBranch, VehicleState, position_control,
+    thrust_pd_projection,
+};
+use crate::vec::zero;
+use crate::{ControlError, RigidBodyParams};
+use lie::{Backend, Real, Rotation, S, So3Mat, V3};
+
+/// `t ↦ (R_d, Ω_d, Ω̇_d)`: the reference of an attitude-tracking law.
+pub trait AttitudeSource<B: Backend, R: Rotation<B> = So3Mat<B>> {
+    /// The reference at time `t`.
+    fn attitude(&self, t: S<B>) -> AttitudeReference<B, R>;
+}
+
+impl<B: Backend, R: Rotation<B>, F: Fn(S<B>) -> AttitudeReference<B, R>> AttitudeSource<B, R>
+    for F
+{
+    #[inline]
+    fn attitude(&self, t: S<B>) -> AttitudeReference<B, R> {
+        self(t)
+    }
+}
+
+/// `t ↦ (x_d … x_d⁽⁴⁾, b1d, ḃ1d, b̈1d)`: the reference of a position law.
+pub trait PositionSource<B: Backend> {
+    /// The reference at time `t`.
+    fn position(&self, t: S<B>) -> PositionReference<B>;
+    /// `x_d(t)` in f64, for logs and metrics. The default converts
+    /// [`PositionSource::position`]; a source that can evaluate in f64
+    /// overrides it so that an f32 run still logs an exact `x_d`.
+    fn position_f64(&self, t: f64) -> [f64; 3] {
+        B::vec3_to_array(self.position(S::<B>::lit(t)).x).map(|c| c.to_f64_lossless())
+    }
+}
+
+impl<B: Backend, F: Fn(S<B>) -> PositionReference<B>> PositionSource<B> for F {
+    #[inline]
+    fn position(&self, t: S<B>) -> PositionReference<B> {
+        self(t)
+    }
+}
+
+/// A constant position reference (hover at `x` facing `b1d`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct HoldPosition<B: Backend>(pub PositionReference<B>);
+
+impl<B: Backend> PositionSource<B> for HoldPosition<B> {
+    #[inline]
+    fn position(&self, _t: S<B>) -> PositionReference<B> {
+        self.0
+    }
+}
+
+/// A constant attitude reference (`Ω_d = Ω̇_d = 0`), computed once.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct HoldAttitude<B: Backend, R: Rotation<B> = So3Mat<B>>(pub AttitudeReference<B, R>);
+
+impl<B: Backend, R: Rotation<B>> HoldAttitude<B, R> {
+    /// Hold `rd`.
+    pub fn new(rd: R) -> Self {
+        Self(AttitudeReference {
+            rd,
+            omega_d: zero::<B>(),
+            omega_d_dot: zero::<B>(),
+        })
+    }
+}
+
+impl<B: Backend, R: Rotation<B>> AttitudeSource<B, R> for HoldAttitude<B, R> {
+    #[inline]
+    fn attitude(&self, _t: S<B>) -> AttitudeReference<B, R> {
+        self.0
+    }
+}
+
+/// What a mode commands and what the logs show of it.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ModeOutput<B: Backend, R: Rotation<B> = So3Mat<B>> {
+    /// Total thrust `f` along `−b3`, N.
+    pub thrust: S<B>,
+    /// Body moment `M`, N m.
+    pub moment: V3<B>,
+    /// The desired attitude the law tracks (`R_d`, or `R_c` in position
+    /// mode); the identity-free choice for a law without one is the current
+    /// attitude.
+    pub desired: R,
+    /// Its angular velocity (`Ω_d` or `Ω_c`), desired body frame.
+    pub desired_omega: V3<B>,
+    /// `Ψ(R, desired)`: what `until_psi` switches compare.
+    pub psi: S<B>,
+}
+
+/// A breakpoint of a law's vector field: the law is discontinuous where
+/// `|integrals[slot]|` crosses `level` (the paper's `sat′_σ` at `|e_i| = σ`).
+/// A simulation locates such crossings and integrates each side on its own
+/// branch (see [`Mode::force_branch`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Breakpoint<B: Backend> {
+    /// Index in the integral register.
+    pub slot: usize,
+    /// The magnitude at which the law switches branch.
+    pub level: S<B>,
+}
+
+/// A flight mode: a control law with its references.
+///
+/// Object safe: a plan is a list of `Box<dyn Mode<B>>`. Only
+/// [`Mode::name`] and [`Mode::command`] are required.
+pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
+    /// Short name for logs (`"attitude"`, `"position"`, `"landing"`).
+    fn name(&self) -> &'static str;
+    /// How many integral states the law reads and integrates: slots
+    /// `0..integral_count()` of the plan's shared register.
+    fn integral_count(&self) -> usize {
+        0
+    }
+    /// Called when a scheduler switches *into* this mode at time `t` (not
+    /// for the plan's first mode, whose integrals are the initial ones),
+    /// with the whole register: zero what must not carry over. The default
+    /// keeps everything.
+    fn enter(&mut self, _t: S<B>, _integrals: &mut [S<B>]) {}
+    /// The command at time `t` in `state`. `integrals` holds the law's
+    /// `integral_count()` states; write their time derivatives into `rates`
+    /// (same length, zeroed by the caller; an idle state keeps rate zero).
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, R>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B, R>, ControlError>;
+    /// The law's breakpoints (none by default).
+    fn breakpoints(&self) -> &[Breakpoint<B>] {
+        &[]
+    }
+    /// Forces the branch taken at breakpoint `index` ([`SatBranch::Auto`]
+    /// lets the law decide from the state again).
+    fn force_branch(&mut self, _index: usize, _branch: SatBranch) {}
+    /// The desired position at time `t` in f64, for logs (`x_d`, `‖e_x‖`),
+    /// if the law has one.
+    fn desired_position(&self, _t: f64) -> Option<[f64; 3]> {
+        None
+    }
+}
+
+impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn integral_count(&self) -> usize {
+        (**self).integral_count()
+    }
+    fn enter(&mut self, t: S<B>, integrals: &mut [S<B>]) {
+        (**self).enter(t, integrals)
+    }
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, R>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B, R>, ControlError> {
+        (**self).command(t, state, integrals, rates)
+    }
+    fn breakpoints(&self) -> &[Breakpoint<B>] {
+        (**self).breakpoints()
+    }
+    fn force_branch(&mut self, index: usize, branch: SatBranch) {
+        (**self).force_branch(index, branch)
+    }
+    fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
+        (**self).desired_position(t)
+    }
+}
+
+/// The first `K` entries of a register slice (a mode's documented layout;
+/// a shorter slice is a caller bug).
+#[inline(always)]
+fn first<B: Backend, const K: usize>(s: &[S<B>]) -> &[S<B>; K] {
+    s[..K]
+        .try_into()
+        .expect("integral register shorter than the mode's integral_count")
+}
+
+#[inline(always)]
+fn first_mut<B: Backend, const K: usize>(s: &mut [S<B>]) -> &mut [S<B>; K] {
+    (&mut s[..K])
+        .try_into()
+        .expect("integral register shorter than the mode's integral_count")
+}
+
+/// The thrust of an [`AttitudeMode`].
+#[derive(Copy, Clone, Debug)]
+pub enum AttitudeThrust<B: Backend, P> {
+    /// A constant thrust, e.g. `m g`.
+    Constant(S<B>),
+    /// The position-PD projection `(k_x e_x + k_v e_v + m g e3 − m ẍ_d)·R e3`
+    /// towards `reference` (the paper's flip).
+    PdProjection {
+        /// `k_x`, `k_v` are read from these.
+        gains: PositionGains<B>,
+        /// The position the thrust holds.
+        reference: P,
+    },
+}
+
+/// The paper's attitude-controlled flight mode (eqn:aM, eqn:eI) with a
+/// thrust rule. Integral layout: `[e_I]` (3 slots); entering it keeps
+/// `e_I` (it carries across the switch, as in the paper).
+pub struct AttitudeMode<B: Backend, A, P = HoldPosition<B>> {
+    params: RigidBodyParams<B>,
+    gains: AttitudeGains<B>,
+    reference: A,
+    thrust: AttitudeThrust<B, P>,
+}
+
+impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> AttitudeMode<B, A, P> {
+    /// Track `reference` with `gains`, thrust by `thrust`.
+    pub fn new(
+        params: RigidBodyParams<B>,
+        gains: AttitudeGains<B>,
+        reference: A,
+        thrust: AttitudeThrust<B, P>,
+    ) -> Self {
+        Self {
+            params,
+            gains,
+            reference,
+            thrust,
+        }
+    }
+}
+
+impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> Mode<B> for AttitudeMode<B, A, P> {
+    fn name(&self) -> &'static str {
+        "attitude"
+    }
+    fn integral_count(&self) -> usize {
+        3
+    }
+    #[inline]
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        let r = self.reference.attitude(t);
+        let [a0, a1, a2] = *first::<B, 3>(integrals);
+        let e_att = B::vec3(a0, a1, a2);
+        let out = attitude_control(&self.params, &self.gains, state.r, state.omega, e_att, &r)?;
+        let f = match &self.thrust {
+            AttitudeThrust::Constant(f) => *f,
+            AttitudeThrust::PdProjection { gains, reference } => {
+                thrust_pd_projection(&self.params, gains, state, &reference.position(t))
+            }
+        };
+        *first_mut::<B, 3>(rates) = B::vec3_to_array(out.e_i_rate);
+        Ok(ModeOutput {
+            thrust: f,
+            moment: out.moment,
+            desired: r.rd,
+            desired_omega: r.omega_d,
+            psi: out.psi,
+        })
+    }
+    fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
+        match &self.thrust {
+            AttitudeThrust::Constant(_) => None,
+            AttitudeThrust::PdProjection { reference, .. } => Some(reference.position_f64(t)),
+        }
+    }
+}
+
+/// The paper's position-controlled flight mode (eqn:f, eqn:M) with the
+/// computed attitude and its exact derivatives. Integral layout:
+/// `[e_I (3), e_i (3)]`. Entering it zeroes `e_i` unless
+/// [`PositionMode::keep_integral_on_entry`] was set; `e_I` carries over.
+/// Its breakpoints are the three components of `e_i` at `±σ` (when any
+/// `k_i > 0`: otherwise `sat′` does not reach the command).
+pub struct PositionMode<B: Backend, P> {
+    params: RigidBodyParams<B>,
+    pos_gains: PositionGains<B>,
+    att_gains: AttitudeGains<B>,
+    model: AccelerationModel<B>,
+    reference: P,
+    reset_on_entry: bool,
+    breakpoints: [Breakpoint<B>; 3],
+    has_breakpoints: bool,
+}
+
+impl<B: Backend, P: PositionSource<B>> PositionMode<B, P> {
+    /// Track `reference` with the given gains and acceleration model.
+    pub fn new(
+        params: RigidBodyParams<B>,
+        pos_gains: PositionGains<B>,
+        att_gains: AttitudeGains<B>,
+        model: AccelerationModel<B>,
+        reference: P,
+    ) -> Self {
+        let z = S::<B>::lit(0.0);
+        let has_breakpoints = B::vec3_to_array(pos_gains.k_i).iter().any(|k| *k > z);
+        let level = pos_gains.sigma;
+        Self {
+            params,
+            pos_gains,
+            att_gains,
+            model,
+            reference,
+            reset_on_entry: true,
+            breakpoints: [3, 4, 5].map(|slot| Breakpoint { slot, level }),
+            has_breakpoints,
+        }
+    }
+
+    /// Keep `e_i` when this mode is entered (for a second position segment
+    /// that continues the first one's integral).
+    pub fn keep_integral_on_entry(mut self) -> Self {
+        self.reset_on_entry = false;
+        self
+    }
+}
+
+impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
+    fn name(&self) -> &'static str {
+        "position"
+    }
+    fn integral_count(&self) -> usize {
+        6
+    }
+    fn enter(&mut self, _t: S<B>, integrals: &mut [S<B>]) {
+        if self.reset_on_entry {
+            integrals[3..6].fill(S::<B>::lit(0.0));
+        }
+    }
+    #[inline]
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        // One length check for the six slots, not six.
+        let [a0, a1, a2, p0, p1, p2] = *first::<B, 6>(integrals);
+        let (e_att, e_pos) = (B::vec3(a0, a1, a2), B::vec3(p0, p1, p2));
+        let out = position_control(
+            &self.params,
+            &self.pos_gains,
+            &self.att_gains,
+            state,
+            e_pos,
+            e_att,
+            &self.reference.position(t),
+            self.model,
+        )?;
+        let (a, p) = (
+            B::vec3_to_array(out.e_i_att_rate),
+            B::vec3_to_array(out.e_i_pos_rate),
+        );
+        *first_mut::<B, 6>(rates) = [a[0], a[1], a[2], p[0], p[1], p[2]];
+        Ok(ModeOutput {
+            thrust: out.thrust,
+            moment: out.moment,
+            desired: out.rc,
+            desired_omega: out.omega_c,
+            psi: out.psi,
+        })
+    }
+    fn breakpoints(&self) -> &[Breakpoint<B>] {
+        if self.has_breakpoints {
+            &self.breakpoints
+        } else {
+            &[]
+        }
+    }
+    fn force_branch(&mut self, index: usize, branch: SatBranch) {
+        if let Some(b) = self.pos_gains.sat_branch.get_mut(index) {
+            *b = branch;
+        }
+    }
+    fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
+        Some(self.reference.position_f64(t))
+    }
+}

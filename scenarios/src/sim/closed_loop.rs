@@ -1,0 +1,178 @@
+//! The vehicle, the plan and the held command as one [`System`]: what the
+//! integrator sees. Also the scheduler's part of the loop (which segment is
+//! active, switching into the next).
+
+use controllers::{ModeOutput, VehicleState};
+use dynamics::{Vehicle, Wrench, loads_applied};
+use integrators::{Load, State, System};
+use lie::num_traits::Float;
+use lie::{Backend, Real, S, So3Mat};
+
+use super::{Segment, SwitchRecord, Until};
+
+/// A command with the integral register's rates (slots `0..m`).
+#[derive(Copy, Clone)]
+pub(crate) struct Command<B: Backend, const N: usize> {
+    pub out: ModeOutput<B>,
+    pub rates: [S<B>; N],
+}
+
+pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
+    pub vehicle: &'s dyn Vehicle<B>,
+    pub plan: &'s mut [Segment<'a, B>],
+    pub active: usize,
+    /// Integral slots `0..m`, vehicle states `m..m + nv`.
+    pub m: usize,
+    pub nv: usize,
+    /// Sampled control: the held command.
+    pub held: Option<Command<B, N>>,
+    pub sampled: bool,
+    /// Cancel the vehicle's configuration moment in the command.
+    pub compensate: bool,
+    pub inertia_inv: lie::M3<B>,
+    pub evaluations: u64,
+    pub error: Option<String>,
+}
+
+impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
+    /// The active mode's command at `(t, y)`; `None` without a plan or when
+    /// the mode rejects its input (the error is kept for the report).
+    #[inline]
+    pub fn command(&mut self, t: S<B>, y: &State<B, N>) -> Option<Command<B, N>> {
+        let seg = self.plan.get_mut(self.active)?;
+        let st = VehicleState {
+            x: y.body.x,
+            v: y.body.v,
+            r: So3Mat::from_matrix_unchecked(y.body.r),
+            omega: y.body.omega,
+        };
+        let mut rates = [S::<B>::lit(0.0); N];
+        let m = self.m;
+        match seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m]) {
+            Ok(mut out) => {
+                if self.compensate
+                    && let Some(mo) = self.vehicle.configuration_moment(&y.body)
+                {
+                    out.moment = out.moment - mo;
+                }
+                Some(Command { out, rates })
+            }
+            Err(e) => {
+                // A non-finite state: report it after the step (the
+                // integrator sees NaN loads and stops).
+                self.error.get_or_insert_with(|| e.to_string());
+                None
+            }
+        }
+    }
+
+    /// The vehicle's internal states in `y`.
+    pub fn vehicle_states<'y>(&self, y: &'y State<B, N>) -> &'y [S<B>] {
+        &y.extra[self.m..self.m + self.nv]
+    }
+
+    /// Whether the active segment ends on a condition checked after each
+    /// step (`Ψ` or a user predicate).
+    pub fn has_condition(&self) -> bool {
+        self.plan
+            .get(self.active)
+            .is_some_and(|s| matches!(s.until, Until::PsiBelow(_) | Until::Condition(_)))
+            && self.active + 1 < self.plan.len()
+    }
+
+    /// Whether the active segment's condition holds at `(t, y)` (a fresh
+    /// command, in sampled control too).
+    pub fn condition_holds(&mut self, t: f64, y: &State<B, N>) -> bool {
+        let Some(c) = self.command(S::<B>::lit(t), y) else {
+            return false;
+        };
+        match &mut self.plan[self.active].until {
+            Until::PsiBelow(th) => c.out.psi.to_f64_lossless() < *th,
+            Until::Condition(f) => f(t, &y.body, &c.out),
+            Until::Never | Until::Time(_) => false,
+        }
+    }
+
+    /// Makes the next segment active at `t`; its mode decides what of the
+    /// integral register carries over.
+    pub fn switch(&mut self, t: f64, y: &mut State<B, N>) -> Option<SwitchRecord> {
+        if self.active + 1 >= self.plan.len() {
+            return None;
+        }
+        let from = self.active;
+        self.active += 1;
+        let m = self.m;
+        self.plan[self.active]
+            .mode
+            .enter(S::<B>::lit(t), &mut y.extra[..m]);
+        Some(SwitchRecord {
+            t,
+            from,
+            to: self.active,
+        })
+    }
+}
+
+impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
+    fn mass(&self) -> S<B> {
+        self.vehicle.mass()
+    }
+    fn inertia(&self) -> lie::M3<B> {
+        self.vehicle.inertia()
+    }
+    fn inertia_inv(&self) -> lie::M3<B> {
+        self.inertia_inv
+    }
+    fn translates(&self) -> bool {
+        self.vehicle.translates()
+    }
+    fn load_depends_on_rates(&self) -> bool {
+        (!self.plan.is_empty() && !self.sampled)
+            || self.nv > 0
+            || self.vehicle.rate_dependent_loads()
+    }
+    fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N> {
+        self.evaluations += 1;
+        let cmd = if self.plan.is_empty() {
+            None
+        } else if self.sampled {
+            self.held
+        } else {
+            match self.command(t, y) {
+                Some(c) => Some(c),
+                None => {
+                    let nan = S::<B>::nan();
+                    let n = B::vec3(nan, nan, nan);
+                    return Load {
+                        force: n,
+                        moment: n,
+                        extra_rate: [nan; N],
+                    };
+                }
+            }
+        };
+        let (w, mut rates) = match cmd {
+            Some(c) => (
+                Wrench {
+                    thrust: c.out.thrust,
+                    moment: c.out.moment,
+                },
+                c.rates,
+            ),
+            None => (Wrench::zero(), [S::<B>::lit(0.0); N]),
+        };
+        let (m, nv) = (self.m, self.nv);
+        let states = &y.extra[m..m + nv];
+        let applied = self.vehicle.applied_wrench(&w, states);
+        let l = loads_applied(self.vehicle, t, &y.body, applied);
+        if nv > 0 {
+            self.vehicle
+                .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);
+        }
+        Load {
+            force: l.force,
+            moment: l.moment,
+            extra_rate: rates,
+        }
+    }
+}

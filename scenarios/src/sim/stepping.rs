@@ -1,0 +1,242 @@
+//! The stepping loop: from checkpoint to checkpoint (record samples,
+//! control samples, time switches, the end; each `k·Δ` or a listed time,
+//! never an accumulated sum), in steps of `dt` with the last one shortened
+//! to land on the checkpoint; events inside a step are located by
+//! [`super::events`].
+
+use std::time::Instant;
+
+use controllers::{Breakpoint, SatBranch};
+use dynamics::Wrench;
+use integrators::Integrator;
+use lie::{Backend, Real, S};
+
+use super::closed_loop::ClosedLoop;
+use super::events::{crossing, locate_condition, split_at_crossing};
+use super::record::{empty_sample, sample, track};
+use super::{Control, RunOptions, RunOutput, SimError, Simulation, Until};
+
+pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
+    sim: Simulation<'_, B, N, I>,
+    mut opts: RunOptions<'_>,
+) -> Result<RunOutput, SimError> {
+    let l = S::<B>::lit;
+    let Simulation {
+        vehicle,
+        mut plan,
+        mut stepper,
+        initial,
+        integrals: m,
+        vehicle_states: nv,
+        dt,
+        duration: t_end,
+        control,
+        record,
+        locate_events,
+        compensate,
+    } = sim;
+    let mode_names = plan.iter().map(|s| s.mode.name()).collect();
+    let switch_times: Vec<f64> = plan
+        .iter()
+        .filter_map(|s| match s.until {
+            Until::Time(u) => Some(u),
+            _ => None,
+        })
+        .filter(|u| *u < t_end)
+        .collect();
+    let sampled = matches!(control, Control::Sampled { .. }) && !plan.is_empty();
+    let ctrl = match control {
+        Control::Sampled { rate } if sampled => 1.0 / rate,
+        _ => 0.0,
+    };
+    let rec = if opts.record { record } else { 0.0 };
+    let mut sys = ClosedLoop {
+        vehicle: vehicle.as_ref(),
+        plan: &mut plan,
+        active: 0,
+        m,
+        nv,
+        held: None,
+        sampled,
+        compensate,
+        inertia_inv: lie::ops::inverse::<B>(vehicle.inertia())
+            .ok_or_else(|| SimError::Scene("inertia is singular".into()))?,
+        evaluations: 0,
+        error: None,
+    };
+    let mut y = initial;
+    // The breakpoints of the active mode, copied so that the loop can call
+    // the system while it walks them.
+    let refresh = |sys: &ClosedLoop<'_, '_, B, N>| -> Vec<Breakpoint<B>> {
+        if locate_events {
+            sys.plan
+                .get(sys.active)
+                .map_or_else(Vec::new, |s| s.mode.breakpoints().to_vec())
+        } else {
+            Vec::new()
+        }
+    };
+    let mut bps = refresh(&sys);
+
+    let mut out = RunOutput {
+        samples: Vec::new(),
+        switches: Vec::new(),
+        mode_names,
+        events: 0,
+        event_times: Vec::new(),
+        steps: 0,
+        evaluations: 0,
+        max_thrust: 0.0,
+        max_rotor: 0.0,
+        wall: 0.0,
+        last: empty_sample(),
+    };
+    let start = Instant::now();
+    let mut t = 0.0f64;
+    if sampled {
+        sys.held = sys.command(l(0.0), &y);
+    }
+    if nv > 0 {
+        // Internal states (spinning rotors, say) start where the first
+        // command puts them.
+        let w = sys
+            .command(l(0.0), &y)
+            .map_or_else(Wrench::zero, |c| Wrench {
+                thrust: c.out.thrust,
+                moment: c.out.moment,
+            });
+        vehicle.initial_states(&w, &mut y.extra[m..m + nv]);
+    }
+    let s0 = sample(&mut sys, 0.0, &y)?;
+    track(&mut out, &s0);
+    if opts.record {
+        out.samples.push(s0);
+    }
+    let (mut k_rec, mut k_ctrl, mut k_sw) = (0u64, 0u64, 0usize);
+    let mut progress_next = 0.0;
+    let mut forced_for_next_step = false;
+    while t < t_end {
+        let mut t_next = t_end;
+        if rec > 0.0 {
+            t_next = t_next.min((k_rec + 1) as f64 * rec);
+        }
+        if ctrl > 0.0 {
+            t_next = t_next.min((k_ctrl + 1) as f64 * ctrl);
+        }
+        if let Some(&ts) = switch_times.get(k_sw) {
+            t_next = t_next.min(ts);
+        }
+        // Steps of dt from t, the last one shortened to land on t_next.
+        let mut seg_start = t;
+        let mut j = 0u64;
+        while t < t_next {
+            let mut ts = seg_start + (j + 1) as f64 * dt;
+            if ts > t_next - 1e-12 * dt.max(t_next) {
+                ts = t_next;
+            }
+            let h = ts - t;
+            let before = y;
+            let stats = stepper.step(&mut sys, l(t), l(h), &mut y).map_err(|e| {
+                SimError::Step(match sys.error.take() {
+                    // The controller saw a non-finite state first: the
+                    // step before diverged (step too large?).
+                    Some(c) => format!(
+                        "in the step from t = {t} (h = {h}): {c}; the state diverged — try a smaller --dt"
+                    ),
+                    None => e.to_string(),
+                })
+            })?;
+            out.steps += u64::from(stats.substeps.max(1));
+            if !bps.is_empty()
+                && let Some(c) = crossing(&mut sys, &bps, t, h, &before, &y)
+            {
+                // Split the step at the crossing: redo [t, tc], restart
+                // the dt grid from tc.
+                let (tc, steps) =
+                    split_at_crossing(&mut sys, &mut stepper, &c, t, h, &before, &mut y)?;
+                out.steps += steps;
+                forced_for_next_step = true;
+                out.events += 1;
+                out.event_times.push((tc, c.index));
+                t = tc;
+                seg_start = t;
+                j = 0;
+                continue;
+            }
+            if forced_for_next_step {
+                for k in 0..bps.len() {
+                    sys.plan[sys.active].mode.force_branch(k, SatBranch::Auto);
+                }
+                forced_for_next_step = false;
+            }
+            // A condition switch (Ψ below a threshold, a user predicate):
+            // when it holds at the end of this step, bisect on redone steps
+            // for the first instant and switch there.
+            if sys.has_condition() && sys.condition_holds(ts, &y) {
+                let (tc, y_c) = locate_condition(&mut sys, &mut stepper, t, ts, h, &before, &y)?;
+                y = y_c;
+                if let Some(sw) = sys.switch(tc, &mut y) {
+                    out.switches.push(sw);
+                    bps = refresh(&sys);
+                }
+                if sampled {
+                    sys.held = sys.command(l(tc), &y);
+                }
+                stepper.reset();
+                t = tc;
+                seg_start = t;
+                j = 0;
+                continue;
+            }
+            t = ts;
+            j += 1;
+        }
+        t = t_next;
+        let mut changed = false;
+        if switch_times.get(k_sw).is_some_and(|&ts| ts <= t) {
+            k_sw += 1;
+            // Only a segment that ends at a time is left here (one waiting
+            // for its condition stays active past a later segment's time).
+            let due = sys
+                .plan
+                .get(sys.active)
+                .is_some_and(|s| matches!(s.until, Until::Time(u) if u <= t));
+            if due && let Some(sw) = sys.switch(t, &mut y) {
+                out.switches.push(sw);
+                bps = refresh(&sys);
+                changed = true;
+            }
+        }
+        if ctrl > 0.0 && ((k_ctrl + 1) as f64 * ctrl - t).abs() <= 1e-9 * ctrl {
+            k_ctrl += 1;
+        }
+        if sampled && (changed || ((k_ctrl as f64) * ctrl - t).abs() <= 1e-9 * ctrl) {
+            sys.held = sys.command(l(t), &y);
+            changed = true;
+        }
+        if changed {
+            stepper.reset();
+        }
+        let on_record = rec > 0.0 && ((k_rec + 1) as f64 * rec - t).abs() <= 1e-9 * rec;
+        if on_record {
+            k_rec += 1;
+        }
+        if on_record || t >= t_end {
+            let s = sample(&mut sys, t, &y)?;
+            track(&mut out, &s);
+            if opts.record && (out.samples.last().map(|p| p.t) != Some(s.t)) {
+                out.samples.push(s.clone());
+            }
+            out.last = s;
+        }
+        if let Some(p) = opts.progress.as_deref_mut()
+            && t / t_end >= progress_next
+        {
+            p(t / t_end);
+            progress_next += 0.005;
+        }
+    }
+    out.evaluations = sys.evaluations;
+    out.wall = start.elapsed().as_secs_f64();
+    Ok(out)
+}
