@@ -139,11 +139,11 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     fn integral_count(&self) -> usize {
         0
     }
-    /// Called when a scheduler switches *into* this mode at time `t` (not
-    /// for the plan's first mode, whose integrals are the initial ones),
-    /// with the whole register: zero what must not carry over. The default
-    /// keeps everything.
-    fn enter(&mut self, _t: S<B>, _integrals: &mut [S<B>]) {}
+    /// Called when a scheduler switches *into* this mode at time `t` in
+    /// `state` (not for the plan's first mode, whose integrals are the
+    /// initial ones), with the whole register: zero what must not carry
+    /// over, note where the mode starts from. The default keeps everything.
+    fn enter(&mut self, _t: S<B>, _state: &VehicleState<B, R>, _integrals: &mut [S<B>]) {}
     /// The command at time `t` in `state`. `integrals` holds the law's
     /// `integral_count()` states; write their time derivatives into `rates`
     /// (same length, zeroed by the caller; an idle state keeps rate zero).
@@ -175,8 +175,8 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     fn integral_count(&self) -> usize {
         (**self).integral_count()
     }
-    fn enter(&mut self, t: S<B>, integrals: &mut [S<B>]) {
-        (**self).enter(t, integrals)
+    fn enter(&mut self, t: S<B>, state: &VehicleState<B, R>, integrals: &mut [S<B>]) {
+        (**self).enter(t, state, integrals)
     }
     fn command(
         &mut self,
@@ -354,7 +354,7 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
     fn integral_count(&self) -> usize {
         6
     }
-    fn enter(&mut self, _t: S<B>, integrals: &mut [S<B>]) {
+    fn enter(&mut self, _t: S<B>, _state: &VehicleState<B, So3Mat<B>>, integrals: &mut [S<B>]) {
         if self.reset_on_entry {
             integrals[3..6].fill(S::<B>::lit(0.0));
         }

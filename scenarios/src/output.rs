@@ -85,7 +85,11 @@ pub fn quaternion_xyzw(r: &[[f64; 3]; 3]) -> [f64; 4] {
     [sg * x / n, sg * y / n, sg * z / n, sg * w / n]
 }
 
-/// Topics written to the MCAP log.
+/// The topic of a vehicle's internal states (rotor thrusts with lag, …),
+/// written only for a vehicle that has them.
+pub const STATES_TOPIC: &str = "/vehicle/states";
+
+/// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]).
 pub const TOPICS: [&str; 7] = [
     "/vehicle/pose",
     "/desired/pose",
@@ -219,6 +223,16 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<(), String> {
             )
             .as_bytes(),
         )?;
+        let n_states = out.samples.first().map_or(0, |s| s.vehicle_states.len());
+        let states = if n_states > 0 {
+            Some(w.add_schema(
+                "gpid.VehicleStates",
+                "jsonschema",
+                object_schema("gpid.VehicleStates", &[("states", "array")]).as_bytes(),
+            )?)
+        } else {
+            None
+        };
         let meta = BTreeMap::new();
         let ch = [
             w.add_channel(pose, TOPICS[0], "json", &meta)?,
@@ -229,6 +243,12 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<(), String> {
             w.add_channel(integrals, TOPICS[5], "json", &meta)?,
             w.add_channel(mode, TOPICS[6], "json", &meta)?,
         ];
+        // Only a vehicle with internal states gets their channel.
+        let states_channel = match states {
+            Some(id) => Some(w.add_channel(id, STATES_TOPIC, "json", &meta)?),
+            None => None,
+        };
+        let mut states_seq = 0u32;
         let mut seq = [0u32; 7];
         let mut put =
             |w: &mut mcap::Writer<BufWriter<File>>, k: usize, t: f64, v: serde_json::Value| {
@@ -315,6 +335,19 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<(), String> {
                 s.t,
                 json!({"e_I": v3(s.e_att), "e_i": v3(s.e_pos)}),
             )?;
+            if let Some(id) = states_channel {
+                let ns = (s.t * 1e9).round() as u64;
+                states_seq += 1;
+                w.write_to_known_channel(
+                    &mcap::records::MessageHeader {
+                        channel_id: id,
+                        sequence: states_seq,
+                        log_time: ns,
+                        publish_time: ns,
+                    },
+                    json!({"states": s.vehicle_states}).to_string().as_bytes(),
+                )?;
+            }
         }
         w.finish()?;
         Ok(())

@@ -102,9 +102,15 @@ impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
         let from = self.active;
         self.active += 1;
         let m = self.m;
+        let st = VehicleState {
+            x: y.body.x,
+            v: y.body.v,
+            r: So3Mat::from_matrix_unchecked(y.body.r),
+            omega: y.body.omega,
+        };
         self.plan[self.active]
             .mode
-            .enter(S::<B>::lit(t), &mut y.extra[..m]);
+            .enter(S::<B>::lit(t), &st, &mut y.extra[..m]);
         Some(SwitchRecord {
             t,
             from,

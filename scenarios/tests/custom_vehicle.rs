@@ -1,0 +1,171 @@
+//! A user's vehicle with internal states (rotor lag) through the public
+//! simulation API: the τ → 0 limit equals the built-in quadrotor, the lag's
+//! effect is first order in τ, its states are integrated, logged and
+//! counted in the layout.
+
+#[path = "../examples/custom_vehicle/lagged.rs"]
+mod lagged;
+
+use dynamics::Quadrotor;
+use lagged::LaggedQuadrotor;
+use lie::NalgebraF64;
+use scenarios::metrics::max_difference;
+use scenarios::output::{csv_header, write_csv, write_mcap};
+use scenarios::{RunOutput, SimError, Simulation, builtin};
+
+type B = NalgebraF64;
+
+fn vehicle(tau: f64) -> LaggedQuadrotor<B> {
+    let quad = Quadrotor::<B>::paper()
+        .with_disturbance(Quadrotor::<B>::paper_disturbance())
+        .unwrap();
+    LaggedQuadrotor::new(quad, tau).unwrap()
+}
+
+fn flip(tau: f64, dt: f64) -> RunOutput {
+    fly(vehicle(tau), dt)
+}
+
+fn fly(v: LaggedQuadrotor<B>, dt: f64) -> RunOutput {
+    let scene = builtin::paper_flip();
+    let plan = scenarios::plan::<B>(&scene, &v);
+    let mut sim = Simulation::<B, 10>::builder(Box::new(v))
+        .dt(dt)
+        .duration(scene.duration)
+        .record_every(0.01);
+    for s in plan {
+        sim = sim.segment(s);
+    }
+    sim.build().unwrap().run(Default::default()).unwrap()
+}
+
+#[test]
+fn without_lag_equals_the_built_in_quadrotor() {
+    let mut scene = builtin::paper_flip();
+    scene.record.sample = 0.01;
+    let reference = scenarios::run(&scene, Default::default()).unwrap();
+    let lagless = flip(0.0, scene.integrator.dt);
+    // Same equations, same stepper and grid; the only difference is the
+    // allocation round trip A(A⁻¹w), a few ulps per evaluation.
+    let (dx, dv, dr, n) = max_difference(&lagless.samples, &reference.samples);
+    println!("τ = 0 vs built-in over {n} samples: |Δx| {dx:.1e}, |Δv| {dv:.1e}, |ΔR| {dr:.1e}");
+    assert_eq!(n, reference.samples.len());
+    assert!(dx < 1e-9 && dv < 1e-9 && dr < 1e-9, "{dx} {dv} {dr}");
+    let de = lagless
+        .samples
+        .iter()
+        .zip(&reference.samples)
+        .flat_map(|(a, b)| (0..3).map(move |k| (a.e_pos[k] - b.e_pos[k]).abs()))
+        .fold(0.0, f64::max);
+    assert!(de < 1e-9, "e_i differs by {de}");
+    assert!(lagless.last.vehicle_states.is_empty());
+    assert_eq!(lagless.events, reference.events);
+}
+
+#[test]
+fn lag_effect_is_first_order_in_tau() {
+    // Rotor lag perturbs the applied wrench by about τ·ẇ, so the trajectory
+    // moves by O(τ): halving τ halves the gap to τ = 0. Step 1e-4 keeps RK4
+    // well inside its stability limit (h/τ ≤ 0.1) and its own error
+    // (~1e-12 on this scene) far below the gaps (~1e-3).
+    let base = flip(0.0, 1e-4);
+    let gaps: Vec<f64> = [4e-3, 2e-3, 1e-3]
+        .iter()
+        .map(|&tau| max_difference(&flip(tau, 1e-4).samples, &base.samples).0)
+        .collect();
+    let r1 = gaps[0] / gaps[1];
+    let r2 = gaps[1] / gaps[2];
+    println!(
+        "max|Δx| for τ = 4, 2, 1 ms: {:.3e} {:.3e} {:.3e}; ratios {r1:.3} {r2:.3}",
+        gaps[0], gaps[1], gaps[2]
+    );
+    // O(τ²) terms make the ratio drift from 2 by ~τ/T_dyn (a few %).
+    assert!(
+        (r1 - 2.0).abs() < 0.15 && (r2 - 2.0).abs() < 0.1,
+        "{r1} {r2}"
+    );
+}
+
+#[test]
+fn rotor_states_are_integrated_and_logged() {
+    let out = flip(0.02, 5e-4);
+    let first = &out.samples[0];
+    assert_eq!(first.vehicle_states.len(), 4);
+    // Started at the first command's allocation: the rotors sum to it.
+    let sum: f64 = first.vehicle_states.iter().sum();
+    assert!(
+        (sum - first.thrust).abs() < 1e-12,
+        "{sum} vs {}",
+        first.thrust
+    );
+    // After the flip the states have moved, and the logged rotor thrusts
+    // are the states (what the body feels), not the command.
+    let last = &out.last;
+    for (s, r) in last.vehicle_states.iter().zip(&last.rotors) {
+        assert!((s - r).abs() < 1e-12, "{s} vs {r}");
+    }
+    assert!((last.vehicle_states.iter().sum::<f64>() - last.thrust).abs() > 1e-6);
+    let dir = std::env::temp_dir().join(format!("gpid-custom-vehicle-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("lag.csv");
+    write_csv(&csv, &out).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), csv_header(4));
+    let row: Vec<&str> = lines.last().unwrap().split(',').collect();
+    let s4: f64 = row.last().unwrap().parse().unwrap();
+    assert_eq!(s4, last.vehicle_states[3]);
+    let mcap = dir.join("lag.mcap");
+    write_mcap(&mcap, &out).unwrap();
+    let bytes = std::fs::read(&mcap).unwrap();
+    let mut n = 0;
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == scenarios::output::STATES_TOPIC {
+            n += 1;
+        }
+    }
+    assert_eq!(n, out.samples.len());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_layout_too_small_is_an_error_naming_the_counts() {
+    let scene = builtin::paper_flip();
+    let v = vehicle(0.02);
+    let plan = scenarios::plan::<B>(&scene, &v);
+    let mut sim = Simulation::<B>::builder(Box::new(v));
+    for s in plan {
+        sim = sim.segment(s);
+    }
+    match sim.build() {
+        Err(e @ SimError::Layout { .. }) => {
+            let msg = e.to_string();
+            assert!(msg.contains("6 integral states") && msg.contains("4 internal states"));
+            assert!(msg.contains("Simulation::<B, 10>"), "{msg}");
+        }
+        Err(e) => panic!("wrong error {e}"),
+        Ok(_) => panic!("N = 6 cannot hold 10 states"),
+    }
+}
+
+#[test]
+fn rotor_limits_hold_every_rotor_in_range() {
+    // The demanded thrusts are clamped to [0, 9] N and the lag relaxes the
+    // states towards them, so no state leaves the range (RK4's stage
+    // combination of a stable linear lag at h/τ = 0.025 does not overshoot
+    // beyond rounding). The unlimited flip peaks at 12.7 N, so it binds.
+    let out = fly(vehicle(0.02).with_limits(0.0, 9.0).unwrap(), 5e-4);
+    let (lo, hi) = out
+        .samples
+        .iter()
+        .flat_map(|s| s.vehicle_states.iter())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    println!("rotor states over the limited flip: [{lo:.4}, {hi:.4}] N");
+    assert!(lo >= -1e-12 && hi <= 9.0 + 1e-12, "{lo} {hi}");
+    assert!(hi > 8.9, "the limit should bind: {hi}");
+    assert!(vehicle(0.02).with_limits(1.0, 1.0).is_err());
+    assert!(LaggedQuadrotor::new(Quadrotor::<B>::paper(), -1.0).is_err());
+}
