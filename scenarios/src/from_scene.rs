@@ -217,7 +217,10 @@ impl Registry {
         scene: &Scene,
         opts: RunOptions<'_>,
     ) -> Result<RunOutput, SimError> {
-        scene.validate().map_err(|(_, msg)| SimError::Scene(msg))?;
+        scene
+            .validate()
+            .and_then(|()| scene.check_kind(&self.kinds()))
+            .map_err(|(_, msg)| SimError::Scene(msg))?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
         let integrals = plan

@@ -152,3 +152,47 @@ pub fn rotation_f64(phi: [f64; 3]) -> M {
     let r = So3Mat::<NalgebraF64>::exp(NalgebraF64::vec3(phi[0], phi[1], phi[2])).matrix();
     lie::ops::elems::<NalgebraF64>(r)
 }
+
+/// How far a position reference's derivatives are from central differences
+/// of the one below them, over `n` times evenly spread in `[t0, t1]`:
+/// `[ẋ_d, ẍ_d, x_d⁽³⁾, x_d⁽⁴⁾, ḃ1d, b̈1d]`, each the largest
+/// `|analytic − difference|` divided by (1 + the largest |analytic|). A
+/// user's trajectory with consistent derivatives gives ~1e-7 or less (the
+/// differences' own error at step 1e-4 on a smooth path); a wrong sign or
+/// factor gives O(1). Evaluated on nalgebra-f64.
+pub fn derivative_mismatch<P: controllers::PositionSource<lie::NalgebraF64>>(
+    source: &P,
+    t0: f64,
+    t1: f64,
+    n: usize,
+) -> [f64; 6] {
+    use lie::{Backend, NalgebraF64 as N};
+    let h = 1e-4;
+    let arr = |v: lie::V3<N>| N::vec3_to_array(v);
+    let mut worst = [0.0f64; 6];
+    let mut scale = [0.0f64; 6];
+    for k in 0..n.max(1) {
+        let t = t0 + (t1 - t0) * k as f64 / (n.max(2) - 1) as f64;
+        let (a, b, c) = (
+            source.position(t - h),
+            source.position(t),
+            source.position(t + h),
+        );
+        let pairs = [
+            (arr(a.x), arr(c.x), arr(b.v)),
+            (arr(a.v), arr(c.v), arr(b.a)),
+            (arr(a.a), arr(c.a), arr(b.jerk)),
+            (arr(a.jerk), arr(c.jerk), arr(b.snap)),
+            (arr(a.b1d), arr(c.b1d), arr(b.b1d_dot)),
+            (arr(a.b1d_dot), arr(c.b1d_dot), arr(b.b1d_ddot)),
+        ];
+        for (i, (lo, hi, d)) in pairs.iter().enumerate() {
+            for j in 0..3 {
+                let fd = (hi[j] - lo[j]) / (2.0 * h);
+                worst[i] = worst[i].max((fd - d[j]).abs());
+                scale[i] = scale[i].max(d[j].abs());
+            }
+        }
+    }
+    [0, 1, 2, 3, 4, 5].map(|i| worst[i] / (1.0 + scale[i]))
+}

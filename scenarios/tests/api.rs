@@ -1,0 +1,197 @@
+//! The simulation API from the outside: closures as references give the
+//! scene's results, bad settings are errors naming the field and value,
+//! registered vehicle kinds are the only custom ones a scene may name.
+
+use controllers::{
+    AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,
+    RigidBodyParams,
+};
+use dynamics::{Quadrotor, RigidBodyState, Vehicle};
+use lie::{Backend, NalgebraF64, Real};
+use scenarios::reference::{derivative_mismatch, position_f64};
+use scenarios::scene::PositionRef;
+use scenarios::{Registry, Scene, SimError, Simulation, Until, VehicleFactory, builtin};
+
+type B = NalgebraF64;
+
+/// The figure-eight scene's reference rewritten by hand as a closure.
+fn eight(t: f64) -> PositionReference<B> {
+    let (a, b, w) = (1.0, 0.5, 1.0);
+    let (s1, c1) = (w * t).sin_cos();
+    let w2 = 2.0 * w;
+    let (s2, c2) = (w2 * t).sin_cos();
+    let v = |x: f64, y: f64, z: f64| B::vec3(x, y, z);
+    let mut r = PositionReference::hold(v(a * s1, b * s2, -1.0), v(1.0, 0.0, 0.0));
+    r.v = v(a * w * c1, b * w2 * c2, 0.0);
+    r.a = v(-a * w * w * s1, -b * w2 * w2 * s2, 0.0);
+    r.jerk = v(-a * w.powi(3) * c1, -b * w2.powi(3) * c2, 0.0);
+    r.snap = v(a * w.powi(4) * s1, b * w2.powi(4) * s2, 0.0);
+    r
+}
+
+#[test]
+fn a_closure_reference_flies_exactly_as_the_scene_reference() {
+    let scene = builtin::figure_eight();
+    let from_scene = scenarios::run(&scene, Default::default()).unwrap();
+    let g = &scene.gains;
+    let params = RigidBodyParams::<B>::paper();
+    let mut pg = PositionGains::<B>::uniform(g.k_x, g.k_v, g.k_i, g.c1, g.sigma);
+    pg.clamp_integral = g.clamp_integral;
+    let ag = AttitudeGains::<B>::uniform(g.k_r, g.k_omega, g.k_att_i, g.c2);
+    let mut start = RigidBodyState::<B>::at_rest();
+    start.x = B::vec3(0.0, 0.0, -1.0);
+    let quad = Quadrotor::<B>::paper()
+        .with_disturbance(Quadrotor::<B>::paper_disturbance())
+        .unwrap();
+    let out = Simulation::<B>::builder(Box::new(quad))
+        .mode(
+            PositionMode::new(params, pg, ag, AccelerationModel::Nominal, eight),
+            Until::Never,
+        )
+        .initial(start)
+        .dt(scene.integrator.dt)
+        .duration(scene.duration)
+        .record_every(scene.record.sample)
+        .build()
+        .unwrap()
+        .run(Default::default())
+        .unwrap();
+    // Same arithmetic in the same order (the closure is the scene
+    // generator's formula), so the runs agree to the bit but for the
+    // logged x_d: the scene evaluates it in f64 as the closure does.
+    let (dx, dv, dr, n) = scenarios::metrics::max_difference(&out.samples, &from_scene.samples);
+    assert_eq!(n, from_scene.samples.len());
+    assert_eq!((dx, dv, dr), (0.0, 0.0, 0.0));
+    assert_eq!(out.last.ex, from_scene.last.ex);
+    // The scene's generator agrees with the closure, and both pass the
+    // derivative check; a wrong snap does not.
+    let p = PositionRef::FigureEight {
+        center: [0.0, 0.0, -1.0],
+        a: 1.0,
+        b: 0.5,
+        omega: 1.0,
+    };
+    assert_eq!(
+        position_f64(&p, 0.7).0[4],
+        B::vec3_to_array(eight(0.7).snap)
+    );
+    let good = derivative_mismatch(&eight, 0.0, 10.0, 50);
+    assert!(good.iter().all(|e| *e < 1e-7), "{good:?}");
+    let wrong = |t: f64| {
+        let mut r = eight(t);
+        r.snap *= 0.5;
+        r
+    };
+    let bad = derivative_mismatch(&wrong, 0.0, 10.0, 50);
+    assert!(
+        bad[3] > 0.1 && bad[..3].iter().all(|e| *e < 1e-7),
+        "{bad:?}"
+    );
+}
+
+#[test]
+fn bad_settings_name_the_field_and_value() {
+    let quad = || Box::new(Quadrotor::<B>::paper()) as Box<dyn Vehicle<B>>;
+    let err = |r: Result<_, SimError>| match r {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("accepted"),
+    };
+    let e = err(Simulation::<B>::builder(quad())
+        .dt(-1e-3)
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`dt`") && e.contains("-0.001"), "{e}");
+    let e = err(Simulation::<B>::builder(quad())
+        .duration(f64::NAN)
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`duration`") && e.contains("NaN"), "{e}");
+    let mut s = RigidBodyState::<B>::at_rest();
+    s.omega = B::vec3(0.0, f64::INFINITY, 0.0);
+    let e = err(Simulation::<B>::builder(quad())
+        .initial(s)
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`initial`") && e.contains("omega"), "{e}");
+    let e = err(Simulation::<B>::builder(quad())
+        .control(scenarios::Control::Sampled { rate: 0.0 })
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`control`") && e.contains("0 Hz"), "{e}");
+    // A Ψ switch on the last segment has nothing to switch to.
+    let m = PositionMode::new(
+        RigidBodyParams::<B>::paper(),
+        PositionGains::paper(),
+        AttitudeGains::paper(),
+        AccelerationModel::Nominal,
+        eight,
+    );
+    let e = err(Simulation::<B>::builder(quad())
+        .mode(m, Until::PsiBelow(0.1))
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`plan`") && e.contains("segment 0"), "{e}");
+    // Initial integrals beyond the plan's register.
+    let e = err(Simulation::<B>::builder(quad())
+        .integrals(&[1.0])
+        .build()
+        .map(|_| ()));
+    assert!(e.contains("`integrals`") && e.contains("use 0"), "{e}");
+}
+
+struct Heavy;
+impl VehicleFactory for Heavy {
+    fn build<Bk: Backend>(&self, scene: &Scene) -> Result<Box<dyn Vehicle<Bk>>, String> {
+        let extra = scene.vehicle.params.get("payload").copied().unwrap_or(0.0);
+        if extra.is_nan() || extra < 0.0 {
+            return Err(format!("`payload` = {extra}: must be ≥ 0 kg"));
+        }
+        let q = Quadrotor::<Bk>::paper();
+        let l = Bk::Scalar::lit;
+        Ok(Box::new(
+            Quadrotor::<Bk>::new(
+                q.mass() + l(extra),
+                q.inertia(),
+                q.gravity(),
+                l(scene.vehicle.arm),
+                l(scene.vehicle.c_tau_f),
+            )
+            .map_err(|e| e.to_string())?,
+        ))
+    }
+}
+
+#[test]
+fn scene_files_name_registered_kinds_only() {
+    let text = builtin::hover_disturbed().to_toml().replace(
+        "kind = \"quadrotor\"",
+        "kind = \"heavy\"\nparams = { payload = 0.2 }",
+    );
+    // Unregistered: an error at the key, listing the kinds.
+    let e = Scene::from_toml(&text, "heavy.toml").unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("heavy.toml:") && msg.contains("\"heavy\""),
+        "{msg}"
+    );
+    assert!(msg.contains("quadrotor, pinned-quadrotor"), "{msg}");
+    // Registered: it runs, and the factory's own validation reaches the user.
+    let reg = Registry::new().vehicle("heavy", Heavy);
+    assert_eq!(reg.kinds(), ["heavy"]);
+    let mut scene = reg.from_toml(&text, "heavy.toml").unwrap();
+    scene.duration = 1.0;
+    let out = reg.run(&scene, Default::default()).unwrap();
+    assert!(out.last.psi.is_finite());
+    scene.vehicle.params.insert("payload".into(), -1.0);
+    let e = reg.run(&scene, Default::default()).unwrap_err().to_string();
+    assert!(
+        e.contains("vehicle `heavy`") && e.contains("`payload` = -1"),
+        "{e}"
+    );
+    // Built-in kinds take no params.
+    let mut s = builtin::paper_flip();
+    s.vehicle.params.insert("tau".into(), 0.1);
+    let (key, msg) = s.check_kind(&[]).unwrap_err();
+    assert_eq!(key, "params");
+    assert!(msg.contains("quadrotor"), "{msg}");
+}
