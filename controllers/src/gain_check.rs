@@ -82,6 +82,9 @@ pub struct GainReport {
     /// Slowest time constant (s) of the linearised position loop
     /// `m s³ + k_v s² + (k_x + k_i) s + k_i c1`, unsaturated.
     pub position_time_constant: f64,
+    /// `λm(W1)` on the worst axis: (eqn:kRkWb) can only hold when it is
+    /// positive (its bound is `∞` otherwise).
+    pub lambda_min_w1: f64,
 }
 
 impl GainReport {
@@ -275,6 +278,7 @@ pub fn check_gains<B: Backend>(
             margin: bound - c1,
         }
     }));
+    let mut lambda_min_w1 = f64::INFINITY;
     let w_cond = worst([0, 1, 2].map(|i| {
         let off1 = -0.5 * c1 * k_v[i] * (1.0 + alpha);
         let w1 = [
@@ -288,6 +292,7 @@ pub fn check_gains<B: Backend>(
         let off2 = -0.5 * c2 * (k_w[i] + bounds.b2);
         let w2 = [[c2 * k_r[i], off2], [off2, k_w[i] - 2.0 * c2 * lam_big]];
         let l1 = sym2_min_eig(w1);
+        lambda_min_w1 = lambda_min_w1.min(l1);
         let value = sym2_min_eig(w2);
         let bound = if l1 > 0.0 {
             norm2x2(w12).powi(2) / (4.0 * l1)
@@ -316,6 +321,7 @@ pub fn check_gains<B: Backend>(
         alpha,
         attitude_time_constant: att_tc,
         position_time_constant: pos_tc,
+        lambda_min_w1,
     }
 }
 

@@ -13,8 +13,12 @@
 //!   writes CSV, MCAP and SVG plots on request (`cargo xtask run --help`).
 //! * `regress [--quick]` — every built-in scene against its expectations.
 //! * `sweep [scene]` — run time against error, every stepper (work-precision).
+//! * `gains <scene>` — the conditions of Propositions 2 and 3 for a scene's
+//!   gains, with bounds from the scene; `--synthesize` searches for gains
+//!   that meet them within a thrust limit.
 
 mod conservation;
+mod gains;
 mod plot;
 mod regress;
 mod run;
@@ -41,6 +45,9 @@ enum Cmd {
     /// Run every built-in scene and check its metrics against the committed
     /// expectations.
     Regress(regress::RegressArgs),
+    /// The gain conditions of Propositions 2–3 for a scene, or a search for
+    /// gains that meet them (--synthesize).
+    Gains(Box<gains::GainsArgs>),
     /// Run time against error for every stepper on one scene.
     Sweep(sweep::SweepArgs),
     /// Table of the last `cargo bench -p lie` run: generic vs hand-written.
@@ -61,6 +68,7 @@ fn main() -> ExitCode {
         Cmd::Run(a) => run::run(*a),
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Gains(a) => gains::gains(*a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
         Cmd::Conservation { steps } => conservation::conservation(steps),
