@@ -3,7 +3,7 @@
 
 use crate::vec::{cmul, is_finite};
 use crate::{ControlError, RigidBodyParams};
-use lie::{Backend, Real, Rotation, S, V3, e_omega};
+use lie::{Backend, Real, Rotation, S, V3};
 
 /// Attitude gains. The paper uses scalars; here `k_R`, `k_Ω`, `k_I` are
 /// diagonal (one value per body axis), as flight code often tunes yaw apart
@@ -109,6 +109,9 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
 }
 
 /// (eqn:aM)/(eqn:M) without input checks; shared by both flight modes.
+///
+/// `E = R_dᵀR` is formed once: `e_R` and `Ψ` are its skew part and trace,
+/// and the desired rates seen in the body frame are `Eᵀ Ω_d`, `Eᵀ Ω̇_d`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
@@ -121,9 +124,43 @@ pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     omega_d: V3<B>,
     omega_d_dot: V3<B>,
 ) -> AttitudeOutput<B> {
-    let e_r = r.e_r(rd);
-    let e_w = e_omega::<B, R>(r, omega, rd, omega_d);
+    let e = rd.inverse() * r;
+    let (e_r, psi) = e.errors_to_identity();
     // R^T R_d Ω_d and R^T R_d Ω̇_d: the desired rates seen in the body frame.
+    let w = e.inverse_act(omega_d);
+    let wd = e.inverse_act(omega_d_dot);
+    let e_w = omega - w;
+    let j = params.inertia;
+    let moment =
+        -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
+            + B::cross(w, j * w)
+            + j * wd;
+    AttitudeOutput {
+        moment,
+        e_r,
+        e_omega: e_w,
+        psi,
+        e_i_rate: e_w + e_r * gains.c2,
+    }
+}
+
+/// The first implementation of [`attitude_core`] (`R_dᵀR` formed three
+/// times through the generic `e_r`, `e_omega`, `psi`), kept as the
+/// reference the faster one is tested against.
+#[cfg(test)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
+    params: &RigidBodyParams<B>,
+    gains: &AttitudeGains<B>,
+    r: R,
+    omega: V3<B>,
+    e_i: V3<B>,
+    rd: R,
+    omega_d: V3<B>,
+    omega_d_dot: V3<B>,
+) -> AttitudeOutput<B> {
+    let e_r = r.e_r(rd);
+    let e_w = lie::e_omega::<B, R>(r, omega, rd, omega_d);
     let rel = r.inverse() * rd;
     let w = rel.act(omega_d);
     let wd = rel.act(omega_d_dot);

@@ -30,6 +30,8 @@ pub(crate) fn zero<B: Backend>() -> V3<B> {
 /// `u/|u|` and its first two time derivatives given `u, u̇, ü`:
 /// `ḃ = u̇/n − u (u·u̇)/n³`,
 /// `b̈ = ü/n − (2u̇ (u·u̇) + u (u̇·u̇ + u·ü))/n³ + 3u (u·u̇)²/n⁵`.
+/// Kept for the reference implementation the tests compare against.
+#[cfg(test)]
 #[inline]
 pub(crate) fn unit_derivs<B: Backend>(u: V3<B>, ud: V3<B>, udd: V3<B>) -> (V3<B>, V3<B>, V3<B>) {
     let n = norm::<B>(u);

@@ -2,7 +2,7 @@
 //! integrators and tests are written once for either.
 
 use crate::backend::ops;
-use crate::{Backend, M3, S, V3};
+use crate::{Backend, M3, Real, S, V3};
 use core::fmt::Debug;
 
 /// An element of SO(3) in some representation (rotation matrix or unit
@@ -48,6 +48,24 @@ pub trait Rotation<B: Backend>: Copy + Debug + PartialEq + core::ops::Mul<Output
     /// Brought back onto SO(3): polar projection for a matrix, division by
     /// the norm for a quaternion.
     fn normalized(self) -> Self;
+
+    /// `(e_R, Ψ)` of this rotation against the identity. With
+    /// `self = R_dᵀR` these are the paper's `e_R(R, R_d)` and `Ψ(R, R_d)`,
+    /// so a controller that has formed `R_dᵀR` once (it also needs it for
+    /// `RᵀR_dΩ_d`) gets both without another product.
+    #[inline]
+    fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        (self.e_r(Self::identity()), self.psi(Self::identity()))
+    }
+
+    /// The body axis `R e_k` (`k` in 0..3): a column of the matrix.
+    #[inline]
+    fn body_axis(self, k: usize) -> V3<B> {
+        let z = S::<B>::lit(0.0);
+        let o = S::<B>::lit(1.0);
+        let e = [B::vec3(o, z, z), B::vec3(z, o, z), B::vec3(z, z, o)];
+        self.act(e[k])
+    }
 
     /// The adjoint `Ad_R`, which for SO(3) is `R` itself:
     /// `exp((Rφ)^) = R exp(φ^) Rᵀ`.

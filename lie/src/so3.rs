@@ -227,6 +227,19 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
         orthogonality_error::<B>(self.0)
     }
     #[inline]
+    fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        let e = ops::elems::<B>(self.0);
+        let h = S::<B>::lit(0.5);
+        (
+            vee::<B>(self.0),
+            h * (S::<B>::lit(3.0) - (e[0][0] + e[1][1] + e[2][2])),
+        )
+    }
+    #[inline]
+    fn body_axis(self, k: usize) -> V3<B> {
+        B::mat3_cols(self.0)[k]
+    }
+    #[inline]
     fn normalized(self) -> Self {
         Self::project(self.0).unwrap_or(self)
     }

@@ -1,0 +1,44 @@
+//! The two helpers controllers use to avoid repeated products:
+//! `errors_to_identity` of `R_dᵀR` equals `(e_R(R, R_d), Ψ(R, R_d))`, and
+//! `body_axis(k)` equals `R e_k`, for both representations on all four
+//! (backend, scalar) pairs.
+
+mod common;
+
+use common::*;
+use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Rotation, So3Mat, So3Quat};
+
+fn check<B: Backend, R: Rotation<B>>(label: &str) {
+    let mut rng = Rng::new(7);
+    // Rounding of a few products of O(1) entries.
+    let tol = 16.0 * eps::<B>();
+    let mut worst = 0.0f64;
+    for _ in 0..500 {
+        let r = R::exp(vb::<B>(rng.rotvec(3.1)));
+        let rd = R::exp(vb::<B>(rng.rotvec(3.1)));
+        let (e_r, psi) = (rd.inverse() * r).errors_to_identity();
+        let d_e = dist(v64::<B>(e_r), v64::<B>(r.e_r(rd)));
+        let d_psi = (lie::Real::to_f64_lossless(psi) - lie::Real::to_f64_lossless(r.psi(rd))).abs();
+        let z = s::<B>(0.0);
+        let o = s::<B>(1.0);
+        let axes = [B::vec3(o, z, z), B::vec3(z, o, z), B::vec3(z, z, o)];
+        let d_axis = (0..3)
+            .map(|k| dist(v64::<B>(r.body_axis(k)), v64::<B>(r.act(axes[k]))))
+            .fold(0.0, f64::max);
+        worst = worst.max(d_e).max(d_psi).max(d_axis);
+    }
+    println!("[{label}] errors_to_identity / body_axis vs e_r, psi, act: {worst:.1e}");
+    assert!(worst < tol, "{label}: {worst} ≥ {tol}");
+}
+
+#[test]
+fn helpers_agree_with_the_definitions() {
+    check::<NalgebraF64, So3Mat<NalgebraF64>>("nalgebra-f64 matrix");
+    check::<NalgebraF64, So3Quat<NalgebraF64>>("nalgebra-f64 quaternion");
+    check::<GlamF64, So3Mat<GlamF64>>("glam-f64 matrix");
+    check::<GlamF64, So3Quat<GlamF64>>("glam-f64 quaternion");
+    check::<NalgebraF32, So3Mat<NalgebraF32>>("nalgebra-f32 matrix");
+    check::<NalgebraF32, So3Quat<NalgebraF32>>("nalgebra-f32 quaternion");
+    check::<GlamF32, So3Mat<GlamF32>>("glam-f32 matrix");
+    check::<GlamF32, So3Quat<GlamF32>>("glam-f32 quaternion");
+}
