@@ -350,8 +350,8 @@ fn position_core<B: Backend, R: Rotation<B>>(
         ei_rate = clamp_rate::<B>(e_i_pos, ei_rate, g_.sigma);
     }
     let ki_sat = cmul::<B>(g_.k_i, sat);
-    let a_cmd = -cmul::<B>(g_.k_x, e_x) - cmul::<B>(g_.k_v, e_v) - ki_sat - e3 * (m * g)
-        + reference.a * m;
+    let a_cmd =
+        -cmul::<B>(g_.k_x, e_x) - cmul::<B>(g_.k_v, e_v) - ki_sat - e3 * (m * g) + reference.a * m;
     let (rb1, rb2, re3) = (r.body_axis(0), r.body_axis(1), r.body_axis(2));
     let thrust = -B::dot(a_cmd, re3);
 
@@ -363,8 +363,8 @@ fn position_core<B: Backend, R: Rotation<B>>(
         AccelerationModel::Measured { accel, .. } => accel,
     };
     let ev_dot = accel - reference.a;
-    let a_dot = -cmul::<B>(g_.k_x, e_v) - cmul::<B>(g_.k_v, ev_dot) - ki_slope_rate
-        + reference.jerk * m;
+    let a_dot =
+        -cmul::<B>(g_.k_x, e_v) - cmul::<B>(g_.k_v, ev_dot) - ki_slope_rate + reference.jerk * m;
     // Second derivatives. R e3 moves as R (Ω × e3) = Ω2 b1 − Ω1 b2.
     let w = B::vec3_to_array(state.omega);
     let re3_dot = rb1 * w[1] - rb2 * w[0];
@@ -445,11 +445,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
         (B::dot(b1, udd) - two * q3 * w2) * inv3
     };
     let omega_c = B::vec3(w1, w2, w3);
-    let omega_c_dot = B::vec3(
-        b3_b2dd - w2 * w3,
-        b1_b3dd - w3 * w1,
-        -b1_b2dd + w1 * w2,
-    );
+    let omega_c_dot = B::vec3(b3_b2dd - w2 * w3, b1_b3dd - w3 * w1, -b1_b2dd + w1 * w2);
     let rc = R::from_matrix(B::mat3_from_cols(b1, b2, b3));
 
     let att = attitude_core(
@@ -679,7 +675,14 @@ mod tests {
         }
     }
 
-    fn inputs(rng: &mut Rng) -> (VehicleState<B, So3Mat<B>>, V3<B>, V3<B>, PositionReference<B>) {
+    fn inputs(
+        rng: &mut Rng,
+    ) -> (
+        VehicleState<B, So3Mat<B>>,
+        V3<B>,
+        V3<B>,
+        PositionReference<B>,
+    ) {
         let st = VehicleState {
             x: rng.v(2.0),
             v: rng.v(2.0),
