@@ -201,7 +201,8 @@ macro_rules! hand {
                 let add = -KX * ev_dot - KV * ev_ddot - KI * slope * eir_dot + M * i.xd[4];
                 let (u, ud, udd) = (-a, -ad, -add);
                 let n = u.length();
-                if !(n > <$s>::EPSILON.sqrt() * M * G) {
+                let thrust_defined = n > <$s>::EPSILON.sqrt() * M * G;
+                if !thrust_defined {
                     return None; // the fallback is not benchmarked
                 }
                 let inv = 1.0 / n;
@@ -212,7 +213,8 @@ macro_rules! hand {
                 let [b1d, b1dd, b1ddd] = i.b1d;
                 let c = b3.cross(b1d);
                 let nc = c.length();
-                if !(nc > <$s>::EPSILON.sqrt() * (1.0 + b1d.length())) {
+                let heading_defined = nc > <$s>::EPSILON.sqrt() * (1.0 + b1d.length());
+                if !heading_defined {
                     return None;
                 }
                 let cd = b3d.cross(b1d) + b3.cross(b1dd);
