@@ -675,14 +675,14 @@ mod tests {
         }
     }
 
-    fn inputs(
-        rng: &mut Rng,
-    ) -> (
+    type Inputs = (
         VehicleState<B, So3Mat<B>>,
         V3<B>,
         V3<B>,
         PositionReference<B>,
-    ) {
+    );
+
+    fn inputs(rng: &mut Rng) -> Inputs {
         let st = VehicleState {
             x: rng.v(2.0),
             v: rng.v(2.0),
