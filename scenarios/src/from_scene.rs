@@ -249,7 +249,7 @@ fn simulate<B: Backend, const N: usize>(
     plan: Vec<Segment<'static, B>>,
     opts: RunOptions<'_>,
 ) -> Result<RunOutput, SimError> {
-    let kind = scene
+    let kind: integrators::IntegratorKind = scene
         .integrator
         .kind
         .parse()
@@ -266,6 +266,15 @@ fn simulate<B: Backend, const N: usize>(
     body.omega = v::<B>(i.omega);
     body.x = v::<B>(i.x);
     body.v = v::<B>(i.v);
+    let floor = integrators::Dopri::<B>::floor().to_f64_lossless();
+    let warning = (kind == integrators::IntegratorKind::Dopri && scene.integrator.tol < floor)
+        .then(|| {
+            format!(
+                "dopri tolerance {:e} is below what {} can deliver; using its ε = {floor:.2e}",
+                scene.integrator.tol,
+                if floor > 1e-10 { "f32" } else { "f64" }
+            )
+        });
     let mut b = Simulation::<B, N>::builder(vehicle)
         .integrator(stepper)
         .initial(body)
@@ -283,7 +292,9 @@ fn simulate<B: Backend, const N: usize>(
     for seg in plan {
         b = b.segment(seg);
     }
-    b.build()?.run(opts)
+    let mut out = b.build()?.run(opts)?;
+    out.warnings.extend(warning);
+    Ok(out)
 }
 
 /// The controller's view of the vehicle and the scene's gains.

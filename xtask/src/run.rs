@@ -126,6 +126,9 @@ pub fn run_scene(scene: &Scene, record: bool) -> Result<RunOutput, String> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    for w in &out.warnings {
+        eprintln!("warning: {}: {w}", scene.name);
+    }
     Ok(out)
 }
 

@@ -73,7 +73,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
         ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
         ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
         ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("dopri", &[1e-4, 1e-6, 1e-8, 1e-10]),
+        ("dopri", &[1e-4, 1e-5, 1e-6, 3e-7, 1e-7, 1e-8, 1e-10]),
     ];
     for (kind, params) in grid {
         for &p in *params {

@@ -109,6 +109,10 @@ pub struct RunOutput {
     pub max_rotor: f64,
     /// Wall time of the loop, s.
     pub wall: f64,
+    /// Settings that were adjusted or are doubtful (a tolerance below what
+    /// the scalar can deliver, say), one sentence each, for the caller to
+    /// show.
+    pub warnings: Vec<String>,
     /// The final state.
     pub last: Sample,
 }

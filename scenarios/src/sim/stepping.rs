@@ -89,6 +89,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         max_thrust: 0.0,
         max_rotor: 0.0,
         wall: 0.0,
+        warnings: Vec::new(),
         last: empty_sample(),
     };
     let start = Instant::now();
