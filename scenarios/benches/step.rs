@@ -1,18 +1,27 @@
-//! Per-step cost of the closed loop, showing that a scene pays only for
-//! what it uses: 1000 rk4 steps (1 s at 1 ms) with recording off, for
-//! - `attitude-only`: the paper's attitude experiment on the pinned vehicle
-//!   (no translation integrated),
-//! - `attitude-translating`: the same plan on the free quadrotor,
-//! - `position`: hover in position mode under Δ_x, Δ_R,
-//! - `position-no-disturbance`: the same without disturbances.
+//! Per-step cost of the closed loop, 1000 steps a run, recording off
+//! (divide by 1000 for ns/step):
+//! - `uses/<variant>`: a scene pays only for what it uses (attitude only on
+//!   the pinned vehicle, the same plan translating, position with and
+//!   without disturbance);
+//! - `step-<integrator>/<pair>`: hover under Δ_x, Δ_R in position mode
+//!   (continuous control, event location on) for every stepper on the four
+//!   (backend, scalar) pairs, through the scene front end and the generic
+//!   loop;
+//! - `step-rk4/<glam-f32|glam-f64>-hand`: the same closed loop and RK4
+//!   written by hand on glam (the controller of
+//!   `controllers/benches/common/hand.rs`, the dynamics and the RK4
+//!   combination inline): the baseline of the abstraction's cost.
 //!
-//! and the `position` loop on each (backend, scalar) pair (`pair/…`).
-//!
-//! `cargo bench -p scenarios --bench step`; divide by 1000 for ns/step.
+//! `cargo bench -p scenarios --bench step`; `cargo xtask bench` runs it and
+//! tabulates the ratios.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use scenarios::scene::{BackendKind, Scalar, VehicleKind};
 use scenarios::{RunOptions, Scene, builtin, run};
+use std::hint::black_box;
+
+#[path = "../../controllers/benches/common/hand.rs"]
+mod hand_twin;
 
 fn quiet(s: &Scene) {
     let out = run(
@@ -23,8 +32,94 @@ fn quiet(s: &Scene) {
         },
     )
     .expect("run");
-    std::hint::black_box(out.last.psi);
+    black_box(out.last.psi);
 }
+
+/// The hand-written closed loop: state, vector field, RK4 step.
+macro_rules! hand_loop {
+    ($m:ident, $h:ident, $s:ty, $v:ty, $mat:ty) => {
+        mod $m {
+            use super::hand_twin::$h as c;
+            #[derive(Copy, Clone)]
+            pub struct X {
+                pub r: $mat,
+                pub x: $v,
+                pub v: $v,
+                pub w: $v,
+                pub eatt: $v,
+                pub ei: $v,
+            }
+            const DX: $v = <$v>::new(-0.5, 0.2, 1.0);
+            const DR: $v = <$v>::new(0.2, -0.1, -0.02);
+
+            #[inline]
+            fn field(y: &X) -> X {
+                let i = c::In {
+                    x: y.x,
+                    v: y.v,
+                    r: y.r,
+                    w: y.w,
+                    ei: y.ei,
+                    eatt: y.eatt,
+                    xd: [<$v>::ZERO; 5],
+                    b1d: [<$v>::X, <$v>::ZERO, <$v>::ZERO],
+                };
+                let o = c::position(&i).expect("regular state");
+                let jw = <$v>::new(c::J[0] * y.w.x, c::J[1] * y.w.y, c::J[2] * y.w.z);
+                let tq = o.m + DR - y.w.cross(jw);
+                let wdot = <$v>::new(tq.x / c::J[0], tq.y / c::J[1], tq.z / c::J[2]);
+                let wh = <$mat>::from_cols(
+                    <$v>::new(0.0, y.w.z, -y.w.y),
+                    <$v>::new(-y.w.z, 0.0, y.w.x),
+                    <$v>::new(y.w.y, -y.w.x, 0.0),
+                );
+                X {
+                    r: y.r * wh,
+                    x: y.v,
+                    v: c::G * <$v>::Z - (o.f / c::M) * y.r.z_axis + DX / c::M,
+                    w: wdot,
+                    eatt: o.eatt_rate,
+                    ei: o.ei_rate,
+                }
+            }
+            #[inline]
+            fn axpy(y: &X, h: $s, k: &X) -> X {
+                X {
+                    r: y.r + k.r * h,
+                    x: y.x + k.x * h,
+                    v: y.v + k.v * h,
+                    w: y.w + k.w * h,
+                    eatt: y.eatt + k.eatt * h,
+                    ei: y.ei + k.ei * h,
+                }
+            }
+            /// One classical RK4 step on the embedding, as `integrators::Rk4`.
+            pub fn step(y: &X, h: $s) -> X {
+                let k1 = field(y);
+                let k2 = field(&axpy(y, 0.5 * h, &k1));
+                let k3 = field(&axpy(y, 0.5 * h, &k2));
+                let k4 = field(&axpy(y, h, &k3));
+                let (a, b) = (h / 6.0, h / 3.0);
+                let mut n = axpy(y, a, &k1);
+                n = axpy(&n, b, &k2);
+                n = axpy(&n, b, &k3);
+                axpy(&n, a, &k4)
+            }
+            pub fn start() -> X {
+                X {
+                    r: <$mat>::IDENTITY,
+                    x: <$v>::ZERO,
+                    v: <$v>::ZERO,
+                    w: <$v>::ZERO,
+                    eatt: <$v>::ZERO,
+                    ei: <$v>::ZERO,
+                }
+            }
+        }
+    };
+}
+hand_loop!(loop64, hand64, f64, glam::DVec3, glam::DMat3);
+hand_loop!(loop32, hand32, f32, glam::Vec3, glam::Mat3);
 
 fn bench(c: &mut Criterion) {
     let mut att = builtin::paper_attitude_experiment();
@@ -36,7 +131,7 @@ fn bench(c: &mut Criterion) {
     pos.integrator.dt = 1e-3;
     let mut pos_clean = pos.clone();
     pos_clean.disturbance = None;
-    let mut g = c.benchmark_group("step");
+    let mut g = c.benchmark_group("uses");
     for (name, s) in [
         ("attitude-only", &att),
         ("attitude-translating", &att_free),
@@ -46,21 +141,54 @@ fn bench(c: &mut Criterion) {
         g.bench_function(name, |b| b.iter(|| quiet(s)));
     }
     g.finish();
-    // The same closed loop on each (backend, scalar) pair.
-    let mut g = c.benchmark_group("pair");
-    for (scalar, backend, name) in [
-        (Scalar::F64, BackendKind::Nalgebra, "nalgebra-f64"),
-        (Scalar::F64, BackendKind::Glam, "glam-f64"),
-        (Scalar::F32, BackendKind::Nalgebra, "nalgebra-f32"),
-        (Scalar::F32, BackendKind::Glam, "glam-f32"),
-    ] {
-        let mut s = pos.clone();
-        s.scalar = scalar;
-        s.backend = backend;
-        g.bench_function(name, |b| b.iter(|| quiet(&s)));
+    // The twin flies the generic loop's trajectory (same equations, same
+    // RK4; they differ by rounding order only).
+    let generic = run(&pos, RunOptions::default()).expect("run").last;
+    let mut y = loop64::start();
+    for _ in 0..1000 {
+        y = loop64::step(&y, 1e-3);
     }
-    g.finish();
+    let dx = (0..3).map(|k| (y.x[k] - generic.x[k]).abs()).fold(0.0, f64::max);
+    assert!(dx < 1e-9, "hand-written loop differs from the generic one by {dx}");
+    // Every stepper on every pair: 1000 steps of 1 ms (dopri: 1000 calls).
+    for kind in ["rk4", "rk4-projected", "rkmk4", "lgvi", "euler", "dopri"] {
+        let mut g = c.benchmark_group(format!("step-{kind}"));
+        for (scalar, backend, name) in [
+            (Scalar::F32, BackendKind::Nalgebra, "nalgebra-f32"),
+            (Scalar::F64, BackendKind::Nalgebra, "nalgebra-f64"),
+            (Scalar::F32, BackendKind::Glam, "glam-f32"),
+            (Scalar::F64, BackendKind::Glam, "glam-f64"),
+        ] {
+            let mut s = pos.clone();
+            s.scalar = scalar;
+            s.backend = backend;
+            s.integrator.kind = kind.into();
+            g.bench_function(name, |b| b.iter(|| quiet(&s)));
+        }
+        if kind == "rk4" {
+            g.bench_function("glam-f64-hand", |b| {
+                b.iter(|| {
+                    let mut y = loop64::start();
+                    for _ in 0..1000 {
+                        y = loop64::step(black_box(&y), 1e-3);
+                    }
+                    black_box(y.x)
+                })
+            });
+            g.bench_function("glam-f32-hand", |b| {
+                b.iter(|| {
+                    let mut y = loop32::start();
+                    for _ in 0..1000 {
+                        y = loop32::step(black_box(&y), 1e-3);
+                    }
+                    black_box(y.x)
+                })
+            });
+        }
+        g.finish();
+    }
 }
 
 criterion_group!(benches, bench);
 criterion_main!(benches);
+

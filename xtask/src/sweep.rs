@@ -26,13 +26,20 @@ pub struct SweepArgs {
     pub backend: Option<String>,
 }
 
-struct Point {
-    kind: String,
-    param: f64,
-    steps: u64,
-    evals: u64,
-    wall: f64,
-    error: f64,
+/// One point of a work-precision sweep.
+pub struct Point {
+    /// Stepper name.
+    pub kind: String,
+    /// Step size, or tolerance for dopri.
+    pub param: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Load evaluations.
+    pub evals: u64,
+    /// Best-of-three wall time, s.
+    pub wall: f64,
+    /// Largest |Δx|, |ΔR| over the 0.1 s samples against dopri 1e-12.
+    pub error: f64,
 }
 
 fn timed(s: &Scene) -> Result<(scenarios::RunOutput, f64), String> {
@@ -59,50 +66,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
         Some("nalgebra") => base.backend = scenarios::scene::BackendKind::Nalgebra,
         _ => {}
     }
-    base.record.sample = 0.1;
-    let mut reference = base.clone();
-    reference.scalar = scenarios::scene::Scalar::F64;
-    reference.integrator.kind = "dopri".into();
-    reference.integrator.tol = 1e-12;
-    reference.integrator.dt = 0.1;
-    let reference = run(&reference, RunOptions::default()).map_err(|e| e.to_string())?;
-    let mut pts = Vec::new();
-    let grid: &[(&str, &[f64])] = &[
-        ("euler", &[1e-3, 3e-4, 1e-4, 3e-5]),
-        ("lgvi", &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]),
-        ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("dopri", &[1e-4, 1e-5, 1e-6, 3e-7, 1e-7, 1e-8, 1e-10]),
-    ];
-    for (kind, params) in grid {
-        for &p in *params {
-            let mut s = base.clone();
-            s.integrator.kind = kind.to_string();
-            if *kind == "dopri" {
-                s.integrator.tol = p;
-                s.integrator.dt = 0.1;
-            } else {
-                s.integrator.dt = p;
-            }
-            let (out, wall) = match timed(&s) {
-                Ok(x) => x,
-                Err(e) => {
-                    println!("  {kind} {p:e}: failed: {e}");
-                    continue;
-                }
-            };
-            let (dx, _, dr, _) = max_difference(&out.samples, &reference.samples);
-            pts.push(Point {
-                kind: kind.to_string(),
-                param: p,
-                steps: out.steps,
-                evals: out.evaluations,
-                wall,
-                error: dx.max(dr),
-            });
-        }
-    }
+    let pts = points(&base, false, &mut |_| {})?;
     println!(
         "{}: error = max(|Δx|, |ΔR|) over 0.1 s samples vs dopri 1e-12; wall = best of 3",
         base.name
@@ -137,7 +101,65 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), String> {
+/// Every stepper over its grid on `base` (with its scalar and backend);
+/// `quick` takes every other grid point. `tick` is called after each
+/// point.
+pub fn points(base: &Scene, quick: bool, tick: &mut dyn FnMut(&Point)) -> Result<Vec<Point>, String> {
+    let mut base = base.clone();
+    base.record.sample = 0.1;
+    let mut reference = base.clone();
+    reference.scalar = scenarios::scene::Scalar::F64;
+    reference.integrator.kind = "dopri".into();
+    reference.integrator.tol = 1e-12;
+    reference.integrator.dt = 0.1;
+    let reference = run(&reference, RunOptions::default()).map_err(|e| e.to_string())?;
+    let mut pts = Vec::new();
+    let grid: &[(&str, &[f64])] = &[
+        ("euler", &[1e-3, 3e-4, 1e-4, 3e-5]),
+        ("lgvi", &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]),
+        ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+        ("dopri", &[1e-4, 1e-5, 1e-6, 3e-7, 1e-8, 1e-10]),
+    ];
+    for (kind, params) in grid {
+        for (i, &p) in params.iter().enumerate() {
+            if quick && i % 2 == 1 {
+                continue;
+            }
+            let mut s = base.clone();
+            s.integrator.kind = kind.to_string();
+            if *kind == "dopri" {
+                s.integrator.tol = p;
+                s.integrator.dt = 0.1;
+            } else {
+                s.integrator.dt = p;
+            }
+            let (out, wall) = match timed(&s) {
+                Ok(x) => x,
+                Err(e) => {
+                    println!("  {kind} {p:e}: failed: {e}");
+                    continue;
+                }
+            };
+            let (dx, _, dr, _) = max_difference(&out.samples, &reference.samples);
+            let pt = Point {
+                kind: kind.to_string(),
+                param: p,
+                steps: out.steps,
+                evals: out.evaluations,
+                wall,
+                error: dx.max(dr),
+            };
+            tick(&pt);
+            pts.push(pt);
+        }
+    }
+    Ok(pts)
+}
+
+/// Log–log error against wall time, a line per stepper.
+pub fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     let floor = 1e-16;
     let xs = pts.iter().map(|p| p.wall.max(1e-6).log10());
