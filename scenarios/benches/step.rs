@@ -148,8 +148,13 @@ fn bench(c: &mut Criterion) {
     for _ in 0..1000 {
         y = loop64::step(&y, 1e-3);
     }
-    let dx = (0..3).map(|k| (y.x[k] - generic.x[k]).abs()).fold(0.0, f64::max);
-    assert!(dx < 1e-9, "hand-written loop differs from the generic one by {dx}");
+    let dx = (0..3)
+        .map(|k| (y.x[k] - generic.x[k]).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        dx < 1e-9,
+        "hand-written loop differs from the generic one by {dx}"
+    );
     // Every stepper on every pair: 1000 steps of 1 ms (dopri: 1000 calls).
     for kind in ["rk4", "rk4-projected", "rkmk4", "lgvi", "euler", "dopri"] {
         let mut g = c.benchmark_group(format!("step-{kind}"));
@@ -191,4 +196,3 @@ fn bench(c: &mut Criterion) {
 
 criterion_group!(benches, bench);
 criterion_main!(benches);
-

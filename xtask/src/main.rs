@@ -1,5 +1,8 @@
 //! `cargo xtask <command>`: the project's developer tasks.
 //!
+//! * `bench [--quick]` — the controller update and the closed-loop step
+//!   against hand-written glam twins, work-precision on every pair, as CSV,
+//!   SVG and MCAP under `target/bench/`.
 //! * `bench-table` — reads criterion's results under `target/criterion` and
 //!   prints the median of every `<op>/<pair>/generic` benchmark beside its
 //!   `<op>/<pair>/hand` twin with the ratio (run `cargo bench -p lie` first).
@@ -17,6 +20,7 @@
 //!   gains, with bounds from the scene; `--synthesize` searches for gains
 //!   that meet them within a thrust limit.
 
+mod bench;
 mod conservation;
 mod gains;
 mod plot;
@@ -50,6 +54,11 @@ enum Cmd {
     Gains(Box<gains::GainsArgs>),
     /// Run time against error for every stepper on one scene.
     Sweep(sweep::SweepArgs),
+    /// Criterion benches (controller update, closed-loop step) against
+    /// hand-written twins, and work-precision on every pair; writes
+    /// target/bench/{summary.csv, work_precision.csv, work_precision.svg,
+    /// bench.mcap}.
+    Bench(bench::BenchArgs),
     /// Table of the last `cargo bench -p lie` run: generic vs hand-written.
     BenchTable,
     /// Build `lie` in every feature combination.
@@ -69,6 +78,7 @@ fn main() -> ExitCode {
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Sweep(a) => sweep::sweep(a),
         Cmd::Gains(a) => gains::gains(*a),
+        Cmd::Bench(a) => bench::bench(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
         Cmd::Conservation { steps } => conservation::conservation(steps),

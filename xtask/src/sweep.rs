@@ -104,7 +104,11 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
 /// Every stepper over its grid on `base` (with its scalar and backend);
 /// `quick` takes every other grid point. `tick` is called after each
 /// point.
-pub fn points(base: &Scene, quick: bool, tick: &mut dyn FnMut(&Point)) -> Result<Vec<Point>, String> {
+pub fn points(
+    base: &Scene,
+    quick: bool,
+    tick: &mut dyn FnMut(&Point),
+) -> Result<Vec<Point>, String> {
     let mut base = base.clone();
     base.record.sample = 0.1;
     let mut reference = base.clone();

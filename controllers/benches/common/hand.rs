@@ -167,4 +167,3 @@ macro_rules! hand {
 
 hand!(hand64, f64, glam::DVec3, glam::DMat3);
 hand!(hand32, f32, glam::Vec3, glam::Mat3);
-

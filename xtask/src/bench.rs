@@ -1,0 +1,541 @@
+//! `cargo xtask bench [--quick]`: the speed of the generic code against
+//! hand-written twins, and run time against error for every stepper on
+//! every (backend, scalar) pair.
+//!
+//! 1. Runs the criterion benches `controllers/benches/update.rs` (one
+//!    attitude and one position update) and `scenarios/benches/step.rs`
+//!    (1000 closed-loop steps per stepper and pair, and the hand-written
+//!    glam RK4 loop), then reads their medians from criterion's
+//!    `estimates.json` files and writes `target/bench/summary.csv`:
+//!    `name,backend,scalar,median_ns,baseline_ns,ratio`, the baseline being
+//!    the hand-written twin of the same group and pair (empty where there
+//!    is none). Closed-loop rows are per step (the 1000-step median / 1000).
+//! 2. Sweeps every stepper over its steps (dopri over tolerances) on
+//!    `paper-flip` and `free-rigid-body` for the four pairs
+//!    (`xtask/src/sweep.rs`), writing `target/bench/work_precision.csv` and
+//!    `.svg` (a panel per scene and scalar).
+//! 3. Logs every point to `target/bench/bench.mcap`: channel
+//!    `/bench/summary` (schema `gpid.BenchRow`) and `/bench/work_precision`
+//!    (`gpid.WorkPrecisionPoint`), JSON with JSON schemas, so benchmark
+//!    history reads with the same tools as the flight logs.
+//!
+//! `--quick`: short criterion passes (0.3 s warm-up, 0.7 s measurement),
+//! every other sweep point, the free body over 10 s instead of 100 s.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use plotters::prelude::*;
+use scenarios::scene::{BackendKind, Scalar};
+use serde_json::json;
+
+use crate::sweep::{Point, points};
+use crate::workspace_root;
+
+/// Options of `cargo xtask bench`.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// Short passes (under 3 minutes of benchmarking; CI runs it).
+    #[arg(long)]
+    pub quick: bool,
+    /// Skip the criterion runs and tabulate the last results.
+    #[arg(long)]
+    pub no_run: bool,
+}
+
+/// One row of `summary.csv`.
+struct Row {
+    name: String,
+    backend: String,
+    scalar: String,
+    median_ns: f64,
+    baseline_ns: Option<f64>,
+}
+
+const PAIRS: [(&str, BackendKind, Scalar); 4] = [
+    ("nalgebra-f32", BackendKind::Nalgebra, Scalar::F32),
+    ("nalgebra-f64", BackendKind::Nalgebra, Scalar::F64),
+    ("glam-f32", BackendKind::Glam, Scalar::F32),
+    ("glam-f64", BackendKind::Glam, Scalar::F64),
+];
+
+fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    let b = indicatif::ProgressBar::with_draw_target(
+        Some(len),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}") {
+        b.set_style(style);
+    }
+    b.set_message(what.to_string());
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        b.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    b
+}
+
+fn criterion(package: &str, bench: &str, quick: bool) -> Result<(), String> {
+    let mut cmd = Command::new(env!("CARGO"));
+    cmd.args(["bench", "-q", "-p", package, "--bench", bench, "--"])
+        .current_dir(workspace_root())
+        .stdout(Stdio::null());
+    if quick {
+        cmd.args(["--warm-up-time", "0.3", "--measurement-time", "0.7"]);
+    }
+    // Criterion's progress goes to stderr; it is shown only on failure.
+    let out = cmd
+        .stderr(Stdio::piped())
+        .output()
+        .map_err(|e| format!("cargo bench -p {package}: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "cargo bench -p {package} --bench {bench} failed:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(())
+}
+
+/// `(group, pair, hand?)` of a criterion id `group/pair[-hand]`.
+fn parse(id: &str) -> Option<(String, String, bool)> {
+    let (group, func) = id.split_once('/')?;
+    let (pair, hand) = match func.strip_suffix("-hand") {
+        Some(p) => (p, true),
+        None => (func, false),
+    };
+    Some((group.to_string(), pair.to_string(), hand))
+}
+
+fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
+    let mut raw = Vec::new();
+    crate::collect(root, &mut raw)?;
+    let wanted = |g: &str| g == "attitude" || g == "position" || g.starts_with("step-");
+    // (group, pair) -> (generic, hand)
+    let mut t: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
+    for (id, median) in raw {
+        let Some((group, pair, hand)) = parse(&id) else {
+            continue;
+        };
+        if !wanted(&group) {
+            continue;
+        }
+        // Closed-loop groups time 1000 steps.
+        let per = if group.starts_with("step-") {
+            median / 1000.0
+        } else {
+            median
+        };
+        let e = t.entry((group, pair)).or_default();
+        if hand {
+            e.1 = Some(per)
+        } else {
+            e.0 = Some(per)
+        }
+    }
+    let mut rows = Vec::new();
+    for ((group, pair), (g, h)) in t {
+        let Some(g) = g else { continue };
+        let (backend, scalar) = pair.split_once('-').unwrap_or((&pair, ""));
+        let name = if let Some(k) = group.strip_prefix("step-") {
+            format!("closed-loop {k} step")
+        } else {
+            format!("{group} update")
+        };
+        rows.push(Row {
+            name,
+            backend: backend.to_string(),
+            scalar: scalar.to_string(),
+            median_ns: g,
+            baseline_ns: h,
+        });
+    }
+    Ok(rows)
+}
+
+/// `cargo xtask bench`.
+pub fn bench(a: BenchArgs) -> Result<(), String> {
+    let root = workspace_root();
+    let out_dir = root.join("target").join("bench");
+    std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    let started = std::time::Instant::now();
+    if !a.no_run {
+        let b = bar(2, "criterion");
+        eprintln!("running criterion benches (controllers update, scenarios step)…");
+        criterion("controllers", "update", a.quick)?;
+        b.inc(1);
+        criterion("scenarios", "step", a.quick)?;
+        b.inc(1);
+        b.finish_and_clear();
+    }
+    let crit = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"))
+        .join("criterion");
+    let rows = summary_rows(&crit)?;
+    if rows.is_empty() {
+        return Err(format!(
+            "no results under {}: run without --no-run",
+            crit.display()
+        ));
+    }
+    let mut csv = String::from("name,backend,scalar,median_ns,baseline_ns,ratio\n");
+    println!("| what | backend | scalar | median (ns) | hand-written (ns) | ratio |");
+    println!("|---|---|---|---|---|---|");
+    for r in &rows {
+        let ratio = r.baseline_ns.map(|b| r.median_ns / b);
+        csv += &format!(
+            "{},{},{},{:.3},{},{}\n",
+            r.name,
+            r.backend,
+            r.scalar,
+            r.median_ns,
+            r.baseline_ns.map_or(String::new(), |b| format!("{b:.3}")),
+            ratio.map_or(String::new(), |x| format!("{x:.4}"))
+        );
+        println!(
+            "| {} | {} | {} | {:.1} | {} | {} |",
+            r.name,
+            r.backend,
+            r.scalar,
+            r.median_ns,
+            r.baseline_ns.map_or("–".into(), |b| format!("{b:.1}")),
+            ratio.map_or("–".into(), |x| format!("{x:.2}"))
+        );
+    }
+    let summary = out_dir.join("summary.csv");
+    std::fs::write(&summary, csv).map_err(|e| format!("{}: {e}", summary.display()))?;
+
+    // Work-precision on every pair.
+    let mut wp: Vec<(String, &str, Point)> = Vec::new();
+    let scenes = ["paper-flip", "free-rigid-body"];
+    let per_pair = if a.quick { 16 } else { 32 };
+    let b = bar(
+        (scenes.len() * PAIRS.len() * per_pair) as u64,
+        "work-precision",
+    );
+    for scene_name in scenes {
+        let mut base = scenarios::load(scene_name).map_err(|e| e.to_string())?;
+        if a.quick && scene_name == "free-rigid-body" {
+            base.duration = 10.0;
+        }
+        for (pair, backend, scalar) in PAIRS {
+            base.backend = backend;
+            base.scalar = scalar;
+            let pts = points(&base, a.quick, &mut |_| b.inc(1))?;
+            wp.extend(pts.into_iter().map(|p| (scene_name.to_string(), pair, p)));
+        }
+    }
+    b.finish_and_clear();
+    let mut csv =
+        String::from("scene,backend,scalar,integrator,param,steps,evaluations,wall_s,error\n");
+    for (scene, pair, p) in &wp {
+        let (backend, scalar) = pair.split_once('-').unwrap_or((pair, ""));
+        csv += &format!(
+            "{scene},{backend},{scalar},{},{},{},{},{},{}\n",
+            p.kind, p.param, p.steps, p.evals, p.wall, p.error
+        );
+    }
+    let wp_csv = out_dir.join("work_precision.csv");
+    std::fs::write(&wp_csv, csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
+    let wp_svg = out_dir.join("work_precision.svg");
+    plot_panels(&wp_svg, &wp)?;
+    best_per_accuracy(&wp);
+
+    let mcap = out_dir.join("bench.mcap");
+    write_mcap(&mcap, &rows, &wp).map_err(|e| format!("{}: {e}", mcap.display()))?;
+    println!(
+        "wrote {}, {}, {}, {} in {:.0} s",
+        summary.display(),
+        wp_csv.display(),
+        wp_svg.display(),
+        mcap.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// For each scene and pair, the fastest stepper to reach 1e-6, 1e-9 (when
+/// any does): the reading of the work-precision figure.
+fn best_per_accuracy(wp: &[(String, &str, Point)]) {
+    println!("\nfastest stepper to reach an accuracy (wall time, best of 3):");
+    println!("| scene | pair | ≤ 1e-4 | ≤ 1e-6 | ≤ 1e-9 |");
+    println!("|---|---|---|---|---|");
+    let mut keys: Vec<(String, &str)> = wp.iter().map(|(s, p, _)| (s.clone(), *p)).collect();
+    keys.dedup();
+    for (scene, pair) in keys {
+        let cell = |target: f64| {
+            wp.iter()
+                .filter(|(s, p, x)| *s == scene && *p == pair && x.error <= target)
+                .min_by(|a, b| a.2.wall.total_cmp(&b.2.wall))
+                .map_or("none".to_string(), |(_, _, x)| {
+                    format!("{} {:.2e} ({:.1} ms)", x.kind, x.param, x.wall * 1e3)
+                })
+        };
+        println!(
+            "| {scene} | {pair} | {} | {} | {} |",
+            cell(1e-4),
+            cell(1e-6),
+            cell(1e-9)
+        );
+    }
+}
+
+fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let root = SVGBackend::new(path, (1200, 900)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let panels = root.split_evenly((2, 2));
+    let colors = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+        RGBColor(0, 0, 0),
+    ];
+    let kinds = ["euler", "lgvi", "rk4", "rk4-projected", "rkmk4", "dopri"];
+    let floor = 1e-16;
+    for (i, (scene, scalar)) in [
+        ("paper-flip", "f64"),
+        ("paper-flip", "f32"),
+        ("free-rigid-body", "f64"),
+        ("free-rigid-body", "f32"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let sel: Vec<&(String, &str, Point)> = wp
+            .iter()
+            .filter(|(s, p, _)| s == scene && p.ends_with(scalar))
+            .collect();
+        if sel.is_empty() {
+            continue;
+        }
+        let xs = sel.iter().map(|x| x.2.wall.max(1e-6).log10());
+        let ys = sel.iter().map(|x| x.2.error.max(floor).log10());
+        let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+        let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
+        let mut c = ChartBuilder::on(&panels[i])
+            .caption(
+                format!("{scene}, {scalar} (solid nalgebra, dashed glam)"),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(45)
+            .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
+            .map_err(|e| err(&e))?;
+        c.configure_mesh()
+            .x_desc("log10 wall time [s]")
+            .y_desc("log10 max error")
+            .draw()
+            .map_err(|e| err(&e))?;
+        for (k, kind) in kinds.iter().enumerate() {
+            let col = colors[k % colors.len()];
+            for backend in ["nalgebra", "glam"] {
+                let line: Vec<(f64, f64)> = sel
+                    .iter()
+                    .filter(|x| x.2.kind == *kind && x.1.starts_with(backend))
+                    .map(|x| (x.2.wall.max(1e-6).log10(), x.2.error.max(floor).log10()))
+                    .collect();
+                if line.is_empty() {
+                    continue;
+                }
+                let style = ShapeStyle::from(col).stroke_width(2);
+                if backend == "nalgebra" {
+                    c.draw_series(LineSeries::new(line.clone(), style))
+                        .map_err(|e| err(&e))?
+                        .label(kind.to_string())
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], col));
+                } else {
+                    c.draw_series(DashedLineSeries::new(line.clone(), 6, 4, style))
+                        .map_err(|e| err(&e))?;
+                }
+                c.draw_series(line.into_iter().map(|p| Circle::new(p, 2, col.filled())))
+                    .map_err(|e| err(&e))?;
+            }
+        }
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
+
+fn write_mcap(
+    path: &Path,
+    rows: &[Row],
+    wp: &[(String, &str, Point)],
+) -> Result<(), mcap::McapError> {
+    let tmp = path.with_extension("mcap.partial");
+    let file = BufWriter::new(File::create(&tmp)?);
+    let mut w = mcap::WriteOptions::new()
+        .compression(Some(mcap::Compression::Lz4))
+        .profile("")
+        .create(file)?;
+    let num = r#"{"type":"number"}"#;
+    let nnum = r#"{"type":["number","null"]}"#;
+    let string = r#"{"type":"string"}"#;
+    let schema = |title: &str, fields: &[(&str, &str)]| {
+        let props: Vec<String> = fields
+            .iter()
+            .map(|(k, t)| format!(r#""{k}":{t}"#))
+            .collect();
+        let req: Vec<String> = fields.iter().map(|(k, _)| format!(r#""{k}""#)).collect();
+        format!(
+            r#"{{"title":"{title}","type":"object","properties":{{{}}},"required":[{}]}}"#,
+            props.join(","),
+            req.join(",")
+        )
+    };
+    let s1 = w.add_schema(
+        "gpid.BenchRow",
+        "jsonschema",
+        schema(
+            "gpid.BenchRow",
+            &[
+                ("name", string),
+                ("backend", string),
+                ("scalar", string),
+                ("median_ns", num),
+                ("baseline_ns", nnum),
+                ("ratio", nnum),
+            ],
+        )
+        .as_bytes(),
+    )?;
+    let s2 = w.add_schema(
+        "gpid.WorkPrecisionPoint",
+        "jsonschema",
+        schema(
+            "gpid.WorkPrecisionPoint",
+            &[
+                ("scene", string),
+                ("backend", string),
+                ("scalar", string),
+                ("integrator", string),
+                ("param", num),
+                ("steps", num),
+                ("evaluations", num),
+                ("wall_s", num),
+                ("error", num),
+            ],
+        )
+        .as_bytes(),
+    )?;
+    let meta = BTreeMap::new();
+    let c1 = w.add_channel(s1, "/bench/summary", "json", &meta)?;
+    let c2 = w.add_channel(s2, "/bench/work_precision", "json", &meta)?;
+    // Stamped with the time of the run: files from several runs line up on
+    // one timeline.
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    let mut seq = 0u32;
+    let mut put = |w: &mut mcap::Writer<BufWriter<File>>, ch: u16, v: serde_json::Value| {
+        seq += 1;
+        w.write_to_known_channel(
+            &mcap::records::MessageHeader {
+                channel_id: ch,
+                sequence: seq,
+                log_time: now + u64::from(seq),
+                publish_time: now + u64::from(seq),
+            },
+            v.to_string().as_bytes(),
+        )
+    };
+    for r in rows {
+        let ratio = r.baseline_ns.map(|b| r.median_ns / b);
+        put(
+            &mut w,
+            c1,
+            json!({"name": r.name, "backend": r.backend, "scalar": r.scalar,
+                   "median_ns": r.median_ns, "baseline_ns": r.baseline_ns, "ratio": ratio}),
+        )?;
+    }
+    for (scene, pair, p) in wp {
+        let (backend, scalar) = pair.split_once('-').unwrap_or((pair, ""));
+        put(
+            &mut w,
+            c2,
+            json!({"scene": scene, "backend": backend, "scalar": scalar, "integrator": p.kind,
+                   "param": p.param, "steps": p.steps, "evaluations": p.evals,
+                   "wall_s": p.wall, "error": p.error}),
+        )?;
+    }
+    w.finish()?;
+    drop(w);
+    std::fs::rename(&tmp, path)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The log reads back: both channels, every message valid JSON with the
+    /// fields its schema requires.
+    #[test]
+    fn bench_log_reads_back() {
+        let dir = std::env::temp_dir().join(format!("gpid-bench-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bench.mcap");
+        let rows = vec![Row {
+            name: "position update".into(),
+            backend: "glam".into(),
+            scalar: "f64".into(),
+            median_ns: 150.0,
+            baseline_ns: Some(120.0),
+        }];
+        let wp = vec![(
+            "paper-flip".to_string(),
+            "glam-f64",
+            Point {
+                kind: "rk4".into(),
+                param: 1e-3,
+                steps: 4004,
+                evals: 16020,
+                wall: 3e-3,
+                error: 1e-8,
+            },
+        )];
+        write_mcap(&path, &rows, &wp).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        let mut seen = Vec::new();
+        for m in mcap::MessageStream::new(&bytes).unwrap() {
+            let m = m.unwrap();
+            let v: serde_json::Value = serde_json::from_slice(&m.data).unwrap();
+            seen.push((m.channel.topic.clone(), v));
+        }
+        assert_eq!(seen.len(), 2);
+        assert_eq!(seen[0].0, "/bench/summary");
+        assert_eq!(seen[0].1["ratio"].as_f64(), Some(1.25));
+        assert_eq!(seen[1].0, "/bench/work_precision");
+        assert_eq!(seen[1].1["steps"].as_u64(), Some(4004));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn criterion_ids_split_into_group_pair_and_twin() {
+        assert_eq!(
+            parse("position/glam-f64-hand"),
+            Some(("position".into(), "glam-f64".into(), true))
+        );
+        assert_eq!(
+            parse("step-rk4/nalgebra-f32"),
+            Some(("step-rk4".into(), "nalgebra-f32".into(), false))
+        );
+        assert_eq!(parse("nogroup"), None);
+    }
+}
