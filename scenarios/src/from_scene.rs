@@ -57,6 +57,46 @@ impl<B: Backend> AttitudeSource<B> for SceneAttitude<B> {
     }
 }
 
+/// A scene's position reference as a [`PositionSource`]: a hold is
+/// converted once, a generator evaluated (in f64) per call; logs read
+/// `x_d` in f64 either way.
+pub enum ScenePosition<B: Backend> {
+    /// A constant reference, with its f64 position for the logs.
+    Const(PositionReference<B>, [f64; 3]),
+    /// A generator of [`crate::reference`].
+    Generated(PositionRef),
+}
+
+impl<B: Backend> ScenePosition<B> {
+    /// The source for `p`.
+    pub fn new(p: &PositionRef) -> Self {
+        match p {
+            PositionRef::Hold { .. } => {
+                ScenePosition::Const(reference::position::<B>(p, S::<B>::lit(0.0)), {
+                    reference::position_f64(p, 0.0).0[0]
+                })
+            }
+            other => ScenePosition::Generated(other.clone()),
+        }
+    }
+}
+
+impl<B: Backend> PositionSource<B> for ScenePosition<B> {
+    #[inline]
+    fn position(&self, t: S<B>) -> PositionReference<B> {
+        match self {
+            ScenePosition::Const(r, _) => *r,
+            ScenePosition::Generated(p) => reference::position::<B>(p, t),
+        }
+    }
+    fn position_f64(&self, t: f64) -> [f64; 3] {
+        match self {
+            ScenePosition::Const(_, x) => *x,
+            ScenePosition::Generated(p) => reference::position_f64(p, t).0[0],
+        }
+    }
+}
+
 impl<B: Backend> PositionSource<B> for PositionRef {
     #[inline]
     fn position(&self, t: S<B>) -> PositionReference<B> {
@@ -344,13 +384,15 @@ pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<
                         ThrustSpec::Hover => AttitudeThrust::Constant(hover),
                         ThrustSpec::PdProjection => AttitudeThrust::PdProjection {
                             gains: pg,
-                            reference: s.position.clone().expect("validated"),
+                            reference: ScenePosition::<B>::new(
+                                s.position.as_ref().expect("validated"),
+                            ),
                         },
                     };
                     Box::new(AttitudeMode::new(params, ag, a, thrust))
                 }
                 crate::scene::Mode::Position => {
-                    let p = s.position.clone().expect("validated");
+                    let p = ScenePosition::<B>::new(s.position.as_ref().expect("validated"));
                     let mode = PositionMode::new(params, pg, ag, model, p);
                     if std::mem::replace(&mut position_seen, true) {
                         Box::new(mode.keep_integral_on_entry())

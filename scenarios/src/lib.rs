@@ -43,7 +43,7 @@ pub mod reference;
 pub mod scene;
 mod sim;
 
-pub use from_scene::{Registry, SceneAttitude, VehicleFactory, build_vehicle, plan};
+pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};
 pub use sim::{
     Condition, Control, RunOptions, RunOutput, Sample, Segment, SimError, Simulation,
