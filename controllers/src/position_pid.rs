@@ -262,6 +262,7 @@ pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
 /// `e_i`, whose saturation would drop a NaN, reaches `f` or `M`; a test
 /// injects NaN and ±∞ into each), and then named by checking the inputs.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn position_control<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
@@ -321,7 +322,7 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
 
 /// [`position_control`] without the input checks.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn position_core<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
