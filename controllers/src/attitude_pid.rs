@@ -69,6 +69,11 @@ pub struct AttitudeOutput<B: Backend> {
 /// `M = −k_R e_R − k_Ω e_Ω − k_I e_I + (RᵀR_dΩ_d)^ J RᵀR_dΩ_d + J RᵀR_dΩ̇_d`,
 /// with `e_I` the caller-held integral of (eqn:eI). The gyroscopic term
 /// `Ω × JΩ` is not cancelled, as in the paper.
+///
+/// A NaN or ±∞ in any input reaches `M` (no saturation or branch in this
+/// law; a test injects each), so only the output is checked, and on a
+/// non-finite one the inputs are checked to name the field.
+#[inline]
 pub fn attitude_control<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     gains: &AttitudeGains<B>,
@@ -77,6 +82,19 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
     e_i: V3<B>,
     reference: &AttitudeReference<B, R>,
 ) -> Result<AttitudeOutput<B>, ControlError> {
+    let out = attitude_core(
+        params,
+        gains,
+        r,
+        omega,
+        e_i,
+        reference.rd,
+        reference.omega_d,
+        reference.omega_d_dot,
+    );
+    if is_finite::<B>(out.moment) {
+        return Ok(out);
+    }
     if !is_finite::<B>(omega) {
         return Err(ControlError::NonFinite { field: "omega" });
     }
@@ -90,22 +108,9 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
             field: "reference.omega_d / omega_d_dot",
         });
     }
-    let out = attitude_core(
-        params,
-        gains,
-        r,
-        omega,
-        e_i,
-        reference.rd,
-        reference.omega_d,
-        reference.omega_d_dot,
-    );
-    if !is_finite::<B>(out.moment) {
-        return Err(ControlError::NonFinite {
-            field: "attitude (R or R_d)",
-        });
-    }
-    Ok(out)
+    Err(ControlError::NonFinite {
+        field: "attitude (R or R_d)",
+    })
 }
 
 /// (eqn:aM)/(eqn:M) without input checks; shared by both flight modes.
@@ -175,5 +180,75 @@ pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
         e_omega: e_w,
         psi: r.psi(rd),
         e_i_rate: e_w + e_r * gains.c2,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lie::{GlamF32, NalgebraF64, So3Mat};
+
+    /// A NaN or ±∞ in any component of any input is reported naming it,
+    /// and the law equals the first implementation on random states.
+    #[test]
+    fn non_finite_inputs_are_named_and_the_law_is_unchanged() {
+        type B = GlamF32;
+        let p = RigidBodyParams::<B>::paper();
+        let g = AttitudeGains::<B>::paper();
+        let v = |x: f32, y: f32, z: f32| glam::Vec3::new(x, y, z);
+        let r0 = So3Mat::<B>::exp(v(0.1, -0.2, 0.3));
+        let ref0 = AttitudeReference {
+            rd: So3Mat::<B>::exp(v(-0.3, 0.1, 0.2)),
+            omega_d: v(0.2, 0.1, -0.4),
+            omega_d_dot: v(0.3, -0.1, 0.2),
+        };
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for field in 0..4 {
+                for comp in 0..3 {
+                    let (mut w, mut ei, mut rf) = (v(0.4, -0.7, 0.2), v(0.05, 0.02, -0.01), ref0);
+                    let slot = match field {
+                        0 => &mut w,
+                        1 => &mut ei,
+                        2 => &mut rf.omega_d,
+                        _ => &mut rf.omega_d_dot,
+                    };
+                    slot[comp] = bad;
+                    let expected = [
+                        "omega",
+                        "e_i (attitude integral)",
+                        "reference.omega_d / omega_d_dot",
+                        "reference.omega_d / omega_d_dot",
+                    ][field];
+                    assert_eq!(
+                        attitude_control(&p, &g, r0, w, ei, &rf).err(),
+                        Some(ControlError::NonFinite { field: expected }),
+                        "{bad} in {expected}[{comp}]"
+                    );
+                }
+            }
+        }
+        // E = R_dᵀR once against the three generic products, f64.
+        type D = NalgebraF64;
+        let (p, g) = (RigidBodyParams::<D>::paper(), AttitudeGains::<D>::paper());
+        let mut worst = 0.0f64;
+        for k in 0..200 {
+            let t = k as f64 * 0.37;
+            let vv = |a: f64| {
+                D::vec3(
+                    (a * 1.3).sin() * 3.0,
+                    (a * 0.7).cos() * 2.0,
+                    (a * 2.1).sin(),
+                )
+            };
+            let (r, rd) = (So3Mat::<D>::exp(vv(t)), So3Mat::<D>::exp(vv(t + 1.0)));
+            let args = (vv(t + 2.0), vv(t + 3.0) * 0.1, vv(t + 4.0), vv(t + 5.0));
+            let a = attitude_core(&p, &g, r, args.0, args.1, rd, args.2, args.3);
+            let b = attitude_core_reference(&p, &g, r, args.0, args.1, rd, args.2, args.3);
+            worst = worst
+                .max((a.moment - b.moment).norm())
+                .max((a.psi - b.psi).abs())
+                .max((a.e_i_rate - b.e_i_rate).norm());
+        }
+        assert!(worst < 1e-13, "{worst}");
     }
 }
