@@ -39,6 +39,21 @@ impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
     /// the mode rejects its input (the error is kept for the report).
     #[inline]
     pub fn command(&mut self, t: S<B>, y: &State<B, N>) -> Option<Command<B, N>> {
+        let mut rates = [S::<B>::lit(0.0); N];
+        let out = self.command_into(t, y, &mut rates)?;
+        Some(Command { out, rates })
+    }
+
+    /// [`ClosedLoop::command`] writing the integral rates into `rates`
+    /// (zero on entry): the load evaluation's path, without an intermediate
+    /// copy.
+    #[inline(always)]
+    fn command_into(
+        &mut self,
+        t: S<B>,
+        y: &State<B, N>,
+        rates: &mut [S<B>; N],
+    ) -> Option<ModeOutput<B>> {
         let seg = self.plan.get_mut(self.active)?;
         let st = VehicleState {
             x: y.body.x,
@@ -46,7 +61,6 @@ impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
             r: So3Mat::from_matrix_unchecked(y.body.r),
             omega: y.body.omega,
         };
-        let mut rates = [S::<B>::lit(0.0); N];
         let m = self.m;
         match seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m]) {
             Ok(mut out) => {
@@ -55,7 +69,7 @@ impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
                 {
                     out.moment = out.moment - mo;
                 }
-                Some(Command { out, rates })
+                Some(out)
             }
             Err(e) => {
                 // A non-finite state: report it after the step (the
@@ -139,13 +153,24 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
     }
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N> {
         self.evaluations += 1;
-        let cmd = if self.plan.is_empty() {
-            None
+        let mut rates = [S::<B>::lit(0.0); N];
+        let wrench = |out: &ModeOutput<B>| Wrench {
+            thrust: out.thrust,
+            moment: out.moment,
+        };
+        let w = if self.plan.is_empty() {
+            Wrench::zero()
         } else if self.sampled {
-            self.held
+            match &self.held {
+                Some(c) => {
+                    rates = c.rates;
+                    wrench(&c.out)
+                }
+                None => Wrench::zero(),
+            }
         } else {
-            match self.command(t, y) {
-                Some(c) => Some(c),
+            match self.command_into(t, y, &mut rates) {
+                Some(out) => wrench(&out),
                 None => {
                     let nan = S::<B>::nan();
                     let n = B::vec3(nan, nan, nan);
@@ -156,16 +181,6 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
                     };
                 }
             }
-        };
-        let (w, mut rates) = match cmd {
-            Some(c) => (
-                Wrench {
-                    thrust: c.out.thrust,
-                    moment: c.out.moment,
-                },
-                c.rates,
-            ),
-            None => (Wrench::zero(), [S::<B>::lit(0.0); N]),
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
