@@ -195,3 +195,44 @@ fn scene_files_name_registered_kinds_only() {
     assert_eq!(key, "params");
     assert!(msg.contains("quadrotor"), "{msg}");
 }
+
+#[test]
+fn a_stop_condition_ends_the_run_at_the_located_instant() {
+    // Climb from 1 m to a 2 m hover; stop when 1.5 m is first reached.
+    let params = RigidBodyParams::<B>::paper();
+    let hold = controllers::HoldPosition(PositionReference::hold(
+        B::vec3(0.0, 0.0, -2.0),
+        B::vec3(1.0, 0.0, 0.0),
+    ));
+    let mut start = RigidBodyState::<B>::at_rest();
+    start.x = B::vec3(0.0, 0.0, -1.0);
+    let out = Simulation::<B>::builder(Box::new(Quadrotor::<B>::paper()))
+        .mode(
+            PositionMode::new(
+                params,
+                PositionGains::paper(),
+                AttitudeGains::paper(),
+                AccelerationModel::Nominal,
+                hold,
+            ),
+            Until::Never,
+        )
+        .initial(start)
+        .duration(10.0)
+        .dt(1e-3)
+        .record_every(0.01)
+        .stop_when(Box::new(|_, body, _| -B::vec3_to_array(body.x)[2] >= 1.5))
+        .build()
+        .unwrap()
+        .run(Default::default())
+        .unwrap();
+    let tc = out.stopped_at.expect("stopped");
+    let last = out.samples.last().unwrap();
+    println!("stopped at t = {tc:.12} s, height {:.12} m", -last.x[2]);
+    assert_eq!(last.t, tc);
+    assert_eq!(out.last.t, tc);
+    assert!(tc < 2.0, "{tc}");
+    // Bisection to 1e-12 of a 1 ms step: the height is 1.5 m to ~v·1e-15.
+    assert!((-last.x[2] - 1.5).abs() < 1e-9, "{}", last.x[2]);
+    assert!(out.samples.iter().all(|s| s.t <= tc));
+}

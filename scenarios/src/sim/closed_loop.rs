@@ -107,6 +107,24 @@ impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
         }
     }
 
+    /// Whether the run's stop condition holds at `(t, y)` (false without
+    /// one, or without a command to show it).
+    pub fn stop_holds(
+        &mut self,
+        stop: &mut Option<super::Condition<'_, B>>,
+        t: f64,
+        y: &State<B, N>,
+    ) -> bool {
+        let Some(f) = stop.as_mut() else {
+            return false;
+        };
+        let out = match self.command(S::<B>::lit(t), y) {
+            Some(c) => c.out,
+            None => return false,
+        };
+        f(t, &y.body, &out)
+    }
+
     /// Makes the next segment active at `t`; its mode decides what of the
     /// integral register carries over.
     pub fn switch(&mut self, t: f64, y: &mut State<B, N>) -> Option<SwitchRecord> {

@@ -156,13 +156,17 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     Ok((tc, steps))
 }
 
-/// The first time in `(t, ts]` at which the active segment's condition
-/// holds, given that it holds at the step's end `ts = t + h` (state `y`):
+/// The first time in `(t, ts]` at which a condition (the active
+/// segment's, or the run's stop condition) holds, given that it holds at the step's end `ts = t + h` (state `y`):
 /// bisection on redone steps from `(t, before)` to 1e-12 h. Returns the
 /// time and the state there.
+// The step is passed as its parts (t, ts, h, before, after) as everywhere
+// in this file; the predicate is the segment's condition or the stop one.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
+    holds: &mut dyn FnMut(&mut ClosedLoop<'_, '_, B, N>, f64, &State<B, N>) -> bool,
     t: f64,
     ts: f64,
     h: f64,
@@ -179,7 +183,7 @@ pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
         stepper
             .step(sys, l(t), l(mid), &mut ym)
             .map_err(|e| SimError::Step(e.to_string()))?;
-        if sys.condition_holds(t + mid, &ym) {
+        if holds(sys, t + mid, &ym) {
             hi = mid;
             y_hi = ym;
         } else {

@@ -113,6 +113,9 @@ pub struct RunOutput {
     /// the scalar can deliver, say), one sentence each, for the caller to
     /// show.
     pub warnings: Vec<String>,
+    /// When the run's stop condition ([`SimulationBuilder::stop_when`])
+    /// ended it, the located time; `None` when it ran to the end.
+    pub stopped_at: Option<f64>,
     /// The final state.
     pub last: Sample,
 }
@@ -291,6 +294,7 @@ pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     record: f64,
     locate_events: bool,
     compensate: bool,
+    stop: Option<Condition<'a, B>>,
 }
 
 impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
@@ -310,6 +314,7 @@ impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
             record: 0.01,
             locate_events: true,
             compensate: false,
+            stop: None,
         }
     }
 }
@@ -342,6 +347,7 @@ pub struct SimulationBuilder<'a, B: Backend, const N: usize = 6, I = Stepper<B, 
     record: f64,
     locate_events: bool,
     compensate: bool,
+    stop: Option<Condition<'a, B>>,
 }
 
 impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, B, N, I> {
@@ -382,6 +388,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
             record: self.record,
             locate_events: self.locate_events,
             compensate: self.compensate,
+            stop: self.stop,
         }
     }
     /// The step (for Dormand–Prince: the longest call; it subdivides).
@@ -408,6 +415,15 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     /// them, a first-order error at each).
     pub fn locate_events(mut self, on: bool) -> Self {
         self.locate_events = on;
+        self
+    }
+    /// End the run at the first instant `condition` holds (checked after
+    /// every step, located by bisection like a switch; the last sample is
+    /// taken there and [`RunOutput::stopped_at`] says when). A Monte Carlo
+    /// driver stops a converged sample this way; a hold time is the
+    /// predicate's own state.
+    pub fn stop_when(mut self, condition: Condition<'a, B>) -> Self {
+        self.stop = Some(condition);
         self
     }
     /// Subtract the vehicle's configuration moment (gravity about a pivot)
@@ -531,6 +547,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
             record: self.record,
             locate_events: self.locate_events,
             compensate: self.compensate,
+            stop: self.stop,
         })
     }
 }

@@ -34,6 +34,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         record,
         locate_events,
         compensate,
+        mut stop,
     } = sim;
     let mode_names = plan.iter().map(|s| s.mode.name()).collect();
     let switch_times: Vec<f64> = plan
@@ -90,6 +91,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         max_rotor: 0.0,
         wall: 0.0,
         warnings: Vec::new(),
+        stopped_at: None,
         last: empty_sample(),
     };
     let start = Instant::now();
@@ -174,7 +176,16 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             // when it holds at the end of this step, bisect on redone steps
             // for the first instant and switch there.
             if sys.has_condition() && sys.condition_holds(ts, &y) {
-                let (tc, y_c) = locate_condition(&mut sys, &mut stepper, t, ts, h, &before, &y)?;
+                let (tc, y_c) = locate_condition(
+                    &mut sys,
+                    &mut stepper,
+                    &mut |s, tt, yy| s.condition_holds(tt, yy),
+                    t,
+                    ts,
+                    h,
+                    &before,
+                    &y,
+                )?;
                 y = y_c;
                 if let Some(sw) = sys.switch(tc, &mut y) {
                     out.switches.push(sw);
@@ -188,6 +199,31 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 seg_start = t;
                 j = 0;
                 continue;
+            }
+            // The run's stop condition: located like a switch, and the run
+            // ends there with a final sample.
+            if stop.is_some() && sys.stop_holds(&mut stop, ts, &y) {
+                let (tc, y_c) = locate_condition(
+                    &mut sys,
+                    &mut stepper,
+                    &mut |s, tt, yy| s.stop_holds(&mut stop, tt, yy),
+                    t,
+                    ts,
+                    h,
+                    &before,
+                    &y,
+                )?;
+                y = y_c;
+                let s = sample(&mut sys, tc, &y)?;
+                track(&mut out, &s);
+                if opts.record {
+                    out.samples.push(s.clone());
+                }
+                out.last = s;
+                out.stopped_at = Some(tc);
+                out.evaluations = sys.evaluations;
+                out.wall = start.elapsed().as_secs_f64();
+                return Ok(out);
             }
             t = ts;
             j += 1;
