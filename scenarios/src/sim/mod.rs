@@ -113,6 +113,12 @@ pub struct RunOutput {
     /// the scalar can deliver, say), one sentence each, for the caller to
     /// show.
     pub warnings: Vec<String>,
+    /// Largest ‖RᵀR − I‖_F over the recorded samples and the end (0 on
+    /// SO(3); grows when a stepper drifts off the group).
+    pub max_orthogonality_error: f64,
+    /// Smallest and largest Ψ over the same samples (in [0, 2] for a
+    /// rotation).
+    pub psi_range: (f64, f64),
     /// When the run's stop condition ([`SimulationBuilder::stop_when`])
     /// ended it, the located time; `None` when it ran to the end.
     pub stopped_at: Option<f64>,

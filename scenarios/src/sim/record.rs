@@ -42,6 +42,23 @@ pub(crate) fn empty_sample() -> Sample {
 pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
     out.max_thrust = out.max_thrust.max(s.thrust.abs());
     out.max_rotor = s.rotors.iter().fold(out.max_rotor, |a, r| a.max(r.abs()));
+    // ‖RᵀR − I‖_F from the rows (a NaN propagates through the max as NaN
+    // would not: keep it visible).
+    let r = &s.r;
+    let mut e2 = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            let d = (0..3).map(|k| r[k][i] * r[k][j]).sum::<f64>() - if i == j { 1.0 } else { 0.0 };
+            e2 += d * d;
+        }
+    }
+    let e = e2.sqrt();
+    out.max_orthogonality_error = if e.is_nan() {
+        f64::NAN
+    } else {
+        out.max_orthogonality_error.max(e)
+    };
+    out.psi_range = (out.psi_range.0.min(s.psi), out.psi_range.1.max(s.psi));
 }
 
 pub(crate) fn sample<B: Backend, const N: usize>(

@@ -92,6 +92,8 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         wall: 0.0,
         warnings: Vec::new(),
         stopped_at: None,
+        max_orthogonality_error: 0.0,
+        psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
     };
     let start = Instant::now();
