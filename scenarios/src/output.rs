@@ -349,6 +349,20 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<(), String> {
                 )?;
             }
         }
+        // Warnings of the run (a clamped tolerance, R leaving SO(3), …) as
+        // a metadata record, so a log carries its own caveats.
+        if !out.warnings.is_empty() {
+            let metadata = out
+                .warnings
+                .iter()
+                .enumerate()
+                .map(|(k, w)| (format!("warning {}", k + 1), w.clone()))
+                .collect();
+            w.write_metadata(&mcap::records::Metadata {
+                name: "warnings".into(),
+                metadata,
+            })?;
+        }
         w.finish()?;
         Ok(())
     })();

@@ -125,3 +125,27 @@ fn csv_has_the_fixed_header_and_round_trips_exactly() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// A run's warnings travel in its MCAP log as a `warnings` metadata record.
+#[test]
+fn warnings_are_a_metadata_record_in_the_mcap() {
+    let mut scene = builtin::paper_flip();
+    scene.duration = 0.1;
+    let mut out = run(&scene, RunOptions::default()).unwrap();
+    out.warnings.push("R has left SO(3)".into());
+    let dir = tmpdir("mcap-warnings");
+    let path = dir.join("w.mcap");
+    write_mcap(&path, &out).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let mut found = Vec::new();
+    for rec in mcap::read::LinearReader::new(&bytes).unwrap() {
+        if let mcap::records::Record::Metadata(m) = rec.unwrap() {
+            found.push((m.name.clone(), m.metadata.get("warning 1").cloned()));
+        }
+    }
+    assert_eq!(
+        found,
+        vec![("warnings".to_string(), Some("R has left SO(3)".to_string()))]
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -174,14 +174,36 @@ pub fn run_scene(scene: &Scene, record: bool) -> Result<RunOutput, String> {
     let bar = (est_steps > 2e5).then(|| {
         let b = indicatif::ProgressBar::new(1000);
         b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed}<{eta}")
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} {elapsed}<{eta}")
                 .expect("static template"),
         );
         b
     });
+    // Off a terminal (a log, CI), a line at most every 10 s instead of the
+    // bar.
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let mut last_line = 0.0f64;
     let mut tick = |f: f64| {
         if let Some(b) = &bar {
             b.set_position((f * 1000.0) as u64);
+            b.set_message(format!("t = {:.1} s", f * scene.duration));
+        }
+        let el = started.elapsed().as_secs_f64();
+        if !tty && est_steps > 2e5 && el - last_line >= 10.0 {
+            last_line = el;
+            let eta = if f > 0.0 {
+                el * (1.0 - f) / f
+            } else {
+                f64::NAN
+            };
+            eprintln!(
+                "{}: t = {:.1} s of {} s ({:.1} %), {el:.0} s elapsed, about {eta:.0} s left",
+                scene.name,
+                f * scene.duration,
+                scene.duration,
+                100.0 * f
+            );
         }
     };
     let out = scenarios::run(
@@ -313,12 +335,14 @@ pub fn run(a: RunArgs) -> Result<(), String> {
         ));
     }
     let record = a.csv.is_some() || a.mcap.is_some() || a.plot.is_some();
-    let out = run_scene(&scene, record)?;
+    let mut out = run_scene(&scene, record)?;
     summary(&scene, &out);
     let health = health_warnings(&scene, &out);
     for w in &health {
         eprintln!("warning: {}: {w}", scene.name);
     }
+    // The MCAP log records them (a metadata record `warnings`).
+    out.warnings.extend(health.iter().cloned());
     if a.strict && !health.is_empty() {
         return Err(format!(
             "--strict: {} numerical-health warning(s)",
