@@ -28,7 +28,7 @@ fn quiet(s: &Scene) {
         s,
         RunOptions {
             record: false,
-            progress: None,
+            ..Default::default()
         },
     )
     .expect("run");

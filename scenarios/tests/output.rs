@@ -27,6 +27,7 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut schemas: BTreeMap<String, String> = BTreeMap::new();
     let mut last_time: BTreeMap<String, u64> = BTreeMap::new();
+    let mut world_ned: Vec<u64> = Vec::new();
     for msg in mcap::MessageStream::new(&bytes).unwrap() {
         let msg = msg.unwrap();
         let topic = msg.channel.topic.clone();
@@ -41,6 +42,9 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
         // Every message is valid JSON; log times never go backwards.
         let v: serde_json::Value = serde_json::from_slice(&msg.data).unwrap();
         assert!(v.is_object());
+        if v["child_frame_id"] == "ned" {
+            world_ned.push(msg.log_time);
+        }
         let prev = last_time.insert(topic.clone(), msg.log_time).unwrap_or(0);
         assert!(msg.log_time >= prev, "{topic}: time went backwards");
         *counts.entry(topic).or_default() += 1;
@@ -50,7 +54,7 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
     let expect = [
         ("/vehicle/pose", n, "foxglove.PoseInFrame"),
         ("/desired/pose", n, "foxglove.PoseInFrame"),
-        ("/tf", 2 * n, "foxglove.FrameTransform"),
+        ("/tf", n + world_ned.len(), "foxglove.FrameTransform"),
         ("/errors", n, "gpid.Errors"),
         ("/command", n, "gpid.Command"),
         ("/integrals", n, "gpid.Integrals"),
@@ -65,6 +69,13 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
             "{topic}"
         );
     }
+    // The constant world → ned transform: with the first sample, then
+    // never more than 0.1 s (plus one 2 ms sample interval) apart, and not
+    // with every sample.
+    assert_eq!(world_ned.first(), Some(&0));
+    let gap = world_ned.windows(2).map(|w| w[1] - w[0]).max().unwrap();
+    assert!(gap <= 102_000_000, "largest gap {gap} ns");
+    assert!(world_ned.len() < n / 10, "{} of {n}", world_ned.len());
     // The summary section is there (the file was finished, not truncated).
     let summary = mcap::Summary::read(&bytes).unwrap().expect("summary");
     assert_eq!(summary.channels.len(), 7);
@@ -148,4 +159,86 @@ fn warnings_are_a_metadata_record_in_the_mcap() {
         vec![("warnings".to_string(), Some("R has left SO(3)".to_string()))]
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Streaming: a run that hands its samples to writers as it goes (keeping
+/// none in memory) writes the same CSV, byte for byte, as writing the kept
+/// samples afterwards; and the same MCAP messages.
+#[test]
+fn streamed_outputs_equal_the_written_ones() {
+    use scenarios::output::{CsvWriter, McapWriter, Sink, Tee};
+    let scene = builtin::paper_flip();
+    let kept = run(&scene, RunOptions::default()).unwrap();
+    let dir = tmpdir("stream");
+    write_csv(&dir.join("kept.csv"), &kept).unwrap();
+    write_mcap(&dir.join("kept.mcap"), &kept).unwrap();
+
+    let mut csv = CsvWriter::create(&dir.join("streamed.csv")).unwrap();
+    let mut mcap = McapWriter::create(&dir.join("streamed.mcap")).unwrap();
+    let mut tee = Tee(vec![&mut csv as &mut dyn Sink, &mut mcap]);
+    let streamed = run(
+        &scene,
+        RunOptions {
+            record: false,
+            sink: Some(&mut tee),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    drop(tee);
+    assert!(streamed.samples.is_empty(), "nothing kept in memory");
+    assert_eq!(csv.finish().unwrap(), kept.samples.len() as u64);
+    mcap.finish(&streamed.warnings, None).unwrap();
+    assert_eq!(
+        std::fs::read(dir.join("streamed.csv")).unwrap(),
+        std::fs::read(dir.join("kept.csv")).unwrap()
+    );
+    let messages = |name: &str| -> Vec<(String, u64, Vec<u8>)> {
+        let bytes = std::fs::read(dir.join(name)).unwrap();
+        mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(|m| {
+                let m = m.unwrap();
+                (m.channel.topic.clone(), m.log_time, m.data.to_vec())
+            })
+            .collect()
+    };
+    assert_eq!(messages("streamed.mcap"), messages("kept.mcap"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A cancel flag stops the run at the current step with a last sample
+/// there, and says so.
+#[test]
+fn cancel_stops_at_the_current_step() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let scene = builtin::paper_flip();
+    let cancel = AtomicBool::new(false);
+    // Set it from the progress callback once a quarter of the run is done.
+    let mut set_at = None;
+    let mut progress = |f: f64| {
+        if f >= 0.25 && set_at.is_none() {
+            cancel.store(true, Ordering::Relaxed);
+            set_at = Some(f * scene.duration);
+        }
+    };
+    let out = run(
+        &scene,
+        RunOptions {
+            progress: Some(&mut progress),
+            cancel: Some(&cancel),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let t = out.interrupted_at.expect("interrupted");
+    // The flag is seen after the next step.
+    let set_at = set_at.unwrap();
+    assert!(
+        (t - (set_at + scene.integrator.dt)).abs() < 1e-12,
+        "set at {set_at}, stopped at {t}"
+    );
+    assert_eq!(out.samples.last().unwrap().t, t);
+    assert_eq!(out.last.t, t);
+    assert!(out.samples.windows(2).all(|w| w[0].t < w[1].t));
 }

@@ -79,7 +79,7 @@ fn an_attitude_only_scene_never_touches_translation_and_recording_is_optional() 
         &s,
         RunOptions {
             record: false,
-            progress: None,
+            ..Default::default()
         },
     )
     .unwrap();

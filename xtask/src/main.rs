@@ -74,7 +74,10 @@ enum Cmd {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Cmd::Run(a) => run::run(*a),
+        Cmd::Run(a) => match run::run(*a) {
+            Ok(status) => return ExitCode::from(status),
+            Err(e) => Err(e),
+        },
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Sweep(a) => sweep::sweep(a),
         Cmd::Gains(a) => gains::gains(*a),

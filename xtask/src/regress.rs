@@ -92,6 +92,8 @@ fn log_mcap(scene: &Scene, out: &RunOutput) -> Result<(), String> {
     let dir = PathBuf::from("target/regress");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     output::write_mcap(&dir.join(format!("{}.mcap", scene.name)), out)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }
 
 fn norm(v: [f64; 3]) -> f64 {

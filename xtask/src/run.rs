@@ -2,8 +2,13 @@
 
 use std::path::{Path, PathBuf};
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use signal_hook::consts::{SIGINT, SIGTERM};
+
 use scenarios::scene::{BackendKind, Scalar, Timing};
-use scenarios::{RunOptions, RunOutput, Scene, builtin, output};
+use scenarios::{RunOptions, RunOutput, Sample, Scene, SimError, SwitchRecord, builtin, output};
 
 /// Options of `cargo xtask run`.
 #[derive(clap::Args, Debug)]
@@ -170,6 +175,16 @@ pub fn apply(mut scene: Scene, a: &RunArgs) -> Result<Scene, String> {
 
 /// Runs with a progress bar on long runs (hidden when not on a terminal).
 pub fn run_scene(scene: &Scene, record: bool) -> Result<RunOutput, String> {
+    run_scene_with(scene, record, None, None).map_err(|e| format!("{}: {e}", scene.name))
+}
+
+/// [`run_scene`] streaming to `sink` and stopping when `cancel` is set.
+pub fn run_scene_with(
+    scene: &Scene,
+    record: bool,
+    sink: Option<&mut dyn output::Sink>,
+    cancel: Option<&AtomicBool>,
+) -> Result<RunOutput, SimError> {
     let est_steps = scene.duration / scene.integrator.dt;
     let bar = (est_steps > 2e5).then(|| {
         let b = indicatif::ProgressBar::new(1000);
@@ -211,12 +226,15 @@ pub fn run_scene(scene: &Scene, record: bool) -> Result<RunOutput, String> {
         RunOptions {
             record,
             progress: Some(&mut tick),
+            // Reborrowed: the options' one lifetime is the closure's.
+            sink: sink.map(|k| -> &mut dyn output::Sink { k }),
+            cancel,
         },
-    )
-    .map_err(|e| format!("{}: {e}", scene.name))?;
+    );
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let out = out?;
     for w in &out.warnings {
         eprintln!("warning: {}: {w}", scene.name);
     }
@@ -300,12 +318,40 @@ pub fn summary(scene: &Scene, out: &RunOutput) {
     );
 }
 
-pub fn run(a: RunArgs) -> Result<(), String> {
+/// Remembers the time of the last sample handed on, so that a run ended
+/// by an error can say up to where its files hold.
+struct LastTime<'a> {
+    inner: output::Tee<'a>,
+    t: Option<f64>,
+}
+
+impl output::Sink for LastTime<'_> {
+    fn begin(&mut self, names: &[&'static str]) -> Result<(), output::OutputError> {
+        self.inner.begin(names)
+    }
+    fn switch(&mut self, sw: &SwitchRecord, mode: &str) -> Result<(), output::OutputError> {
+        self.inner.switch(sw, mode)
+    }
+    fn sample(&mut self, s: &Sample) -> Result<(), output::OutputError> {
+        self.t = Some(s.t);
+        self.inner.sample(s)
+    }
+}
+
+/// The exit status of a run stopped by a signal: 128 + its number, as a
+/// shell reports it.
+pub const EXIT_SIGINT: u8 = 130;
+/// See [`EXIT_SIGINT`].
+pub const EXIT_SIGTERM: u8 = 143;
+
+/// `cargo xtask run`: returns the process's exit status (0, or 130/143
+/// after SIGINT/SIGTERM with the outputs closed).
+pub fn run(a: RunArgs) -> Result<u8, String> {
     if a.list {
         for s in builtin::all() {
             println!("{:<28} {}", s.name, s.description);
         }
-        return Ok(());
+        return Ok(0);
     }
     let name = a
         .scene
@@ -334,28 +380,134 @@ pub fn run(a: RunArgs) -> Result<(), String> {
             scene.name, scene.duration, scene.integrator.dt
         ));
     }
-    let record = a.csv.is_some() || a.mcap.is_some() || a.plot.is_some();
-    let mut out = run_scene(&scene, record)?;
-    summary(&scene, &out);
-    let health = health_warnings(&scene, &out);
-    for w in &health {
-        eprintln!("warning: {}: {w}", scene.name);
+    // SIGINT and SIGTERM set `cancel` (and say which); the loop stops at
+    // the current step and the files are closed below. A second signal
+    // while the first is being handled ends the process at once.
+    let cancel = Arc::new(AtomicBool::new(false));
+    let by_int = Arc::new(AtomicBool::new(false));
+    let by_term = Arc::new(AtomicBool::new(false));
+    for (sig, which) in [(SIGINT, &by_int), (SIGTERM, &by_term)] {
+        let reg = |r: std::io::Result<signal_hook::SigId>| {
+            r.map(|_| ())
+                .map_err(|e| format!("installing the signal handler: {e}"))
+        };
+        reg(signal_hook::flag::register_conditional_shutdown(
+            sig,
+            128 + sig,
+            Arc::clone(&cancel),
+        ))?;
+        reg(signal_hook::flag::register(sig, Arc::clone(&cancel)))?;
+        reg(signal_hook::flag::register(sig, Arc::clone(which)))?;
     }
-    // The MCAP log records them (a metadata record `warnings`).
-    out.warnings.extend(health.iter().cloned());
-    if a.strict && !health.is_empty() {
+    // The files are created now (as `.partial`) and written as the run
+    // goes; memory does not grow with the duration.
+    let mut csv = a
+        .csv
+        .as_deref()
+        .map(output::CsvWriter::create)
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let mut mcap = a
+        .mcap
+        .as_deref()
+        .map(output::McapWriter::create)
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let mut sinks: Vec<&mut dyn output::Sink> = Vec::new();
+    if let Some(w) = csv.as_mut() {
+        sinks.push(w);
+    }
+    if let Some(w) = mcap.as_mut() {
+        sinks.push(w);
+    }
+    let streaming = !sinks.is_empty();
+    let mut sink = LastTime {
+        inner: output::Tee(sinks),
+        t: None,
+    };
+    let result = run_scene_with(
+        &scene,
+        a.plot.is_some(),
+        streaming.then_some(&mut sink as &mut dyn output::Sink),
+        Some(&cancel),
+    );
+    let last_t = sink.t;
+    drop(sink);
+    // Close the files whatever happened: an error mid-run leaves
+    // everything logged before it intact, with a `stopped` record saying
+    // where and why.
+    let (mut warnings, stopped, status) = match &result {
+        Ok(out) => {
+            let mut w = out.warnings.clone();
+            let health = health_warnings(&scene, out);
+            for h in &health {
+                eprintln!("warning: {}: {h}", scene.name);
+            }
+            w.extend(health);
+            let stopped = out.interrupted_at.map(|t| {
+                let sig = if by_term.load(Ordering::Relaxed) {
+                    "SIGTERM"
+                } else if by_int.load(Ordering::Relaxed) {
+                    "SIGINT"
+                } else {
+                    "cancelled"
+                };
+                output::Stopped {
+                    t,
+                    reason: sig.into(),
+                }
+            });
+            let status = match stopped.as_ref().map(|s| s.reason.as_str()) {
+                Some("SIGTERM") => EXIT_SIGTERM,
+                Some(_) => EXIT_SIGINT,
+                None => 0,
+            };
+            (w, stopped, status)
+        }
+        Err(e) => (
+            Vec::new(),
+            Some(output::Stopped {
+                t: last_t.unwrap_or(0.0),
+                reason: format!("error: {e}"),
+            }),
+            1,
+        ),
+    };
+    if let Ok(out) = &result {
+        summary(&scene, out);
+    }
+    let health_count = warnings.len() - result.as_ref().map_or(0, |o| o.warnings.len());
+    if let Some(w) = csv {
+        let p = a.csv.as_deref().expect("a CSV writer has a path");
+        let rows = w.finish().map_err(|e| e.to_string())?;
+        println!("  wrote {} ({rows} rows)", p.display());
+    }
+    if let Some(w) = mcap {
+        let p = a.mcap.as_deref().expect("an MCAP writer has a path");
+        let n = w
+            .finish(&warnings, stopped.as_ref())
+            .map_err(|e| e.to_string())?;
+        println!("  wrote {} ({n} messages)", p.display());
+    }
+    warnings.clear();
+    let out = result.map_err(|e| {
+        let held = match last_t {
+            Some(t) if streaming => format!(" (the outputs hold the run up to t = {t} s)"),
+            _ => String::new(),
+        };
+        format!("{}: {e}{held}", scene.name)
+    })?;
+    if let Some(s) = &stopped {
+        eprintln!(
+            "{}: stopped by {} at t = {} s of {} s; the outputs are closed and hold the run up to there",
+            scene.name, s.reason, s.t, scene.duration
+        );
+        return Ok(status);
+    }
+    if a.strict && health_count > 0 {
         return Err(format!(
-            "--strict: {} numerical-health warning(s)",
-            health.len()
+            "--strict: {health_count} numerical-health warning(s)"
         ));
-    }
-    if let Some(p) = &a.csv {
-        output::write_csv(p, &out).map_err(|e| format!("--csv {}: {e}", p.display()))?;
-        println!("  wrote {} ({} rows)", p.display(), out.samples.len());
-    }
-    if let Some(p) = &a.mcap {
-        output::write_mcap(p, &out)?;
-        println!("  wrote {}", p.display());
     }
     if let Some(dir) = &a.plot {
         let files = crate::plot::figures(dir, &scene, &out)?;
@@ -363,7 +515,7 @@ pub fn run(a: RunArgs) -> Result<(), String> {
             println!("  wrote {}", f.display());
         }
     }
-    Ok(())
+    Ok(status)
 }
 
 #[cfg(test)]

@@ -24,11 +24,15 @@ mod events;
 mod record;
 mod stepping;
 
+use std::sync::atomic::AtomicBool;
+
 use controllers::{Mode, ModeOutput};
 use dynamics::{RigidBodyState, Vehicle};
 use integrators::{Integrator, IntegratorKind, State, Stepper, StepperConfig};
 use lie::num_traits::Float;
 use lie::{Backend, Real, S};
+
+use crate::output::{OutputError, Sink};
 
 /// One recorded sample, in f64 whatever the simulation scalar.
 #[derive(Clone, Debug, PartialEq)]
@@ -122,6 +126,9 @@ pub struct RunOutput {
     /// When the run's stop condition ([`SimulationBuilder::stop_when`])
     /// ended it, the located time; `None` when it ran to the end.
     pub stopped_at: Option<f64>,
+    /// When [`RunOptions::cancel`] ended the run, the time of the last
+    /// step (and of the last sample).
+    pub interrupted_at: Option<f64>,
     /// The final state.
     pub last: Sample,
 }
@@ -150,6 +157,8 @@ pub enum SimError {
     },
     /// The integrator failed.
     Step(String),
+    /// A sink could not write (disk full, …).
+    Output(OutputError),
     /// The controller rejected its input.
     Control(String),
 }
@@ -172,6 +181,7 @@ impl std::fmt::Display for SimError {
                 integrals + vehicle_states
             ),
             SimError::Step(s) => write!(f, "integrator: {s}"),
+            SimError::Output(e) => write!(f, "output: {e}"),
             SimError::Control(s) => write!(f, "controller: {s}"),
         }
     }
@@ -181,11 +191,20 @@ impl std::error::Error for SimError {}
 
 /// Options of one run.
 pub struct RunOptions<'a> {
-    /// Record samples (CSV, MCAP, plots, metrics over time). Off: only the
-    /// final state is kept and nothing is formatted.
+    /// Keep the samples in [`RunOutput::samples`] (plots, metrics over
+    /// time). Off, and without a sink, only the final state is kept and no
+    /// sample is taken between the ends.
     pub record: bool,
     /// Called with the fraction done, at most ~200 times a run.
     pub progress: Option<&'a mut dyn FnMut(f64)>,
+    /// Receives every sample and switch as the run produces them (CSV and
+    /// MCAP writers stream this way, so memory stays bounded whatever the
+    /// duration). A sink error ends the run with [`SimError::Output`].
+    pub sink: Option<&'a mut dyn Sink>,
+    /// Checked after every step: once set (by a signal handler, a UI), the
+    /// run stops where it is, takes a last sample there, and returns
+    /// normally with [`RunOutput::interrupted_at`] set.
+    pub cancel: Option<&'a AtomicBool>,
 }
 
 impl Default for RunOptions<'_> {
@@ -193,6 +212,8 @@ impl Default for RunOptions<'_> {
         Self {
             record: true,
             progress: None,
+            sink: None,
+            cancel: None,
         }
     }
 }

@@ -4,6 +4,7 @@
 //! to land on the checkpoint; events inside a step are located by
 //! [`super::events`].
 
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
@@ -14,12 +15,54 @@ use lie::{Backend, Real, S};
 use super::closed_loop::ClosedLoop;
 use super::events::{crossing, locate_condition, split_at_crossing};
 use super::record::{empty_sample, sample, track};
-use super::{Control, RunOptions, RunOutput, SimError, Simulation, Until};
+use super::{Control, RunOptions, RunOutput, Sample, SimError, Simulation, SwitchRecord, Until};
+use crate::output::Sink;
+
+/// Where samples go: kept in the output, handed to the sink, or both.
+struct Emit<'o, 's> {
+    keep: bool,
+    sink: Option<&'o mut (dyn Sink + 's)>,
+    /// Time of the last sample emitted (a checkpoint that coincides with
+    /// a located stop is not sampled twice).
+    last_t: f64,
+}
+
+impl Emit<'_, '_> {
+    fn sample(&mut self, out: &mut RunOutput, s: Sample) -> Result<(), SimError> {
+        track(out, &s);
+        if s.t != self.last_t {
+            self.last_t = s.t;
+            if let Some(k) = self.sink.as_deref_mut() {
+                k.sample(&s).map_err(SimError::Output)?;
+            }
+            if self.keep {
+                out.samples.push(s.clone());
+            }
+        }
+        out.last = s;
+        Ok(())
+    }
+
+    fn switch(&mut self, out: &mut RunOutput, sw: SwitchRecord) -> Result<(), SimError> {
+        out.switches.push(sw);
+        if let Some(k) = self.sink.as_deref_mut() {
+            let name = out.mode_names.get(sw.to).copied().unwrap_or("none");
+            k.switch(&sw, name).map_err(SimError::Output)?;
+        }
+        Ok(())
+    }
+}
 
 pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
     sim: Simulation<'_, B, N, I>,
-    mut opts: RunOptions<'_>,
+    opts: RunOptions<'_>,
 ) -> Result<RunOutput, SimError> {
+    let RunOptions {
+        record: keep,
+        mut progress,
+        sink,
+        cancel,
+    } = opts;
     let l = S::<B>::lit;
     let Simulation {
         vehicle,
@@ -50,7 +93,12 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         Control::Sampled { rate } if sampled => 1.0 / rate,
         _ => 0.0,
     };
-    let rec = if opts.record { record } else { 0.0 };
+    let rec = if keep || sink.is_some() { record } else { 0.0 };
+    let mut emit = Emit {
+        keep,
+        sink,
+        last_t: f64::NAN,
+    };
     let mut sys = ClosedLoop {
         vehicle: vehicle.as_ref(),
         plan: &mut plan,
@@ -92,6 +140,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         wall: 0.0,
         warnings: Vec::new(),
         stopped_at: None,
+        interrupted_at: None,
         max_orthogonality_error: 0.0,
         psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
@@ -112,11 +161,11 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             });
         vehicle.initial_states(&w, &mut y.extra[m..m + nv]);
     }
-    let s0 = sample(&mut sys, 0.0, &y)?;
-    track(&mut out, &s0);
-    if opts.record {
-        out.samples.push(s0);
+    if let Some(k) = emit.sink.as_deref_mut() {
+        k.begin(&out.mode_names).map_err(SimError::Output)?;
     }
+    let s0 = sample(&mut sys, 0.0, &y)?;
+    emit.sample(&mut out, s0)?;
     let (mut k_rec, mut k_ctrl, mut k_sw) = (0u64, 0u64, 0usize);
     let mut progress_next = 0.0;
     let mut forced_for_next_step = false;
@@ -190,7 +239,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 )?;
                 y = y_c;
                 if let Some(sw) = sys.switch(tc, &mut y) {
-                    out.switches.push(sw);
+                    emit.switch(&mut out, sw)?;
                     bps = refresh(&sys);
                 }
                 if sampled {
@@ -217,11 +266,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 )?;
                 y = y_c;
                 let s = sample(&mut sys, tc, &y)?;
-                track(&mut out, &s);
-                if opts.record {
-                    out.samples.push(s.clone());
-                }
-                out.last = s;
+                emit.sample(&mut out, s)?;
                 out.stopped_at = Some(tc);
                 out.evaluations = sys.evaluations;
                 out.wall = start.elapsed().as_secs_f64();
@@ -229,6 +274,14 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             }
             t = ts;
             j += 1;
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                let s = sample(&mut sys, t, &y)?;
+                emit.sample(&mut out, s)?;
+                out.interrupted_at = Some(t);
+                out.evaluations = sys.evaluations;
+                out.wall = start.elapsed().as_secs_f64();
+                return Ok(out);
+            }
         }
         t = t_next;
         let mut changed = false;
@@ -241,7 +294,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 .get(sys.active)
                 .is_some_and(|s| matches!(s.until, Until::Time(u) if u <= t));
             if due && let Some(sw) = sys.switch(t, &mut y) {
-                out.switches.push(sw);
+                emit.switch(&mut out, sw)?;
                 bps = refresh(&sys);
                 changed = true;
             }
@@ -262,13 +315,9 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         }
         if on_record || t >= t_end {
             let s = sample(&mut sys, t, &y)?;
-            track(&mut out, &s);
-            if opts.record && (out.samples.last().map(|p| p.t) != Some(s.t)) {
-                out.samples.push(s.clone());
-            }
-            out.last = s;
+            emit.sample(&mut out, s)?;
         }
-        if let Some(p) = opts.progress.as_deref_mut()
+        if let Some(p) = progress.as_deref_mut()
             && t / t_end >= progress_next
         {
             p(t / t_end);
