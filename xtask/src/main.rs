@@ -15,6 +15,8 @@
 //! * `run <scene>` — runs a built-in scene or a scene file, prints a summary,
 //!   writes CSV, MCAP and SVG plots on request (`cargo xtask run --help`).
 //! * `regress [--quick]` — every built-in scene against its expectations.
+//! * `montecarlo` — converged fraction and time to converge over random
+//!   initial conditions (threads, shards, `merge`, `near-pi`).
 //! * `sweep [scene]` — run time against error, every stepper (work-precision).
 //! * `gains <scene>` — the conditions of Propositions 2 and 3 for a scene's
 //!   gains, with bounds from the scene; `--synthesize` searches for gains
@@ -23,6 +25,7 @@
 mod bench;
 mod conservation;
 mod gains;
+mod montecarlo;
 mod plot;
 mod regress;
 mod run;
@@ -52,6 +55,11 @@ enum Cmd {
     /// The gain conditions of Propositions 2–3 for a scene, or a search for
     /// gains that meet them (--synthesize).
     Gains(Box<gains::GainsArgs>),
+    /// Many random initial conditions through attitude or position mode:
+    /// the converged fraction and the time to converge (almost global
+    /// attractivity, Propositions 2–3); `merge` combines shards, `near-pi`
+    /// measures the slow escape from the π equilibrium.
+    Montecarlo(Box<montecarlo::McArgs>),
     /// Run time against error for every stepper on one scene.
     Sweep(sweep::SweepArgs),
     /// Criterion benches (controller update, closed-loop step) against
@@ -80,6 +88,7 @@ fn main() -> ExitCode {
         },
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Montecarlo(a) => montecarlo::montecarlo(*a),
         Cmd::Gains(a) => gains::gains(*a),
         Cmd::Bench(a) => bench::bench(a),
         Cmd::BenchTable => bench_table(),

@@ -153,3 +153,77 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
     }
     Ok(written)
 }
+
+/// `angle_vs_time.svg` (initial angle from R_d against the time to
+/// converge, one dot a sample; samples that did not converge sit on the
+/// top edge in red) and `time_histogram.svg` (time to converge) for
+/// `cargo xtask montecarlo`.
+pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(), String> {
+    let err = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+    let t: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.converged)
+        .map(|r| r.t_converge)
+        .collect();
+    let t_max = t.iter().copied().fold(0.0, f64::max).max(1e-3) * 1.05;
+    let path = dir.join("angle_vs_time.svg");
+    {
+        let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(&path, &e))?;
+        let mut c = ChartBuilder::on(&root)
+            .caption(
+                "Monte Carlo: initial angle from R_d vs time to converge",
+                ("sans-serif", 18),
+            )
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..180.0, 0.0..t_max)
+            .map_err(|e| err(&path, &e))?;
+        c.configure_mesh()
+            .x_desc("initial angle [deg]")
+            .y_desc("time to converge [s]")
+            .draw()
+            .map_err(|e| err(&path, &e))?;
+        c.draw_series(rows.iter().map(|r| {
+            if r.converged {
+                Circle::new((r.angle.to_degrees(), r.t_converge), 1, COLORS[0].filled())
+            } else {
+                Circle::new((r.angle.to_degrees(), t_max), 3, COLORS[1].filled())
+            }
+        }))
+        .map_err(|e| err(&path, &e))?;
+        root.present().map_err(|e| err(&path, &e))?;
+    }
+    let path = dir.join("time_histogram.svg");
+    let bins = 50usize;
+    let w = t_max / bins as f64;
+    let mut counts = vec![0u64; bins];
+    for &x in &t {
+        counts[((x / w) as usize).min(bins - 1)] += 1;
+    }
+    let c_max = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.05;
+    let root = SVGBackend::new(&path, (720, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&path, &e))?;
+    let mut c = ChartBuilder::on(&root)
+        .caption("Monte Carlo: time to converge", ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, 0.0..c_max)
+        .map_err(|e| err(&path, &e))?;
+    c.configure_mesh()
+        .x_desc("time to converge [s]")
+        .y_desc("samples")
+        .draw()
+        .map_err(|e| err(&path, &e))?;
+    c.draw_series(counts.iter().enumerate().map(|(k, &n)| {
+        Rectangle::new(
+            [(k as f64 * w, 0.0), ((k + 1) as f64 * w, n as f64)],
+            COLORS[0].filled(),
+        )
+    }))
+    .map_err(|e| err(&path, &e))?;
+    root.present().map_err(|e| err(&path, &e))?;
+    Ok(())
+}
