@@ -73,7 +73,7 @@ pub struct McArgs {
     /// Run only the samples i with i mod N = K, as `K/N`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
-    /// Output directory (default target/montecarlo/<experiment>).
+    /// Output directory (default `target/montecarlo/<experiment>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Run only this sample and print it (the slowest samples' replays).
@@ -125,7 +125,7 @@ pub enum McAction {
         /// Shard directories (each written with --shard K/N).
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
-        /// Output directory (default: target/montecarlo/<experiment>).
+        /// Output directory (default: `target/montecarlo/<experiment>`).
         #[arg(long)]
         out: Option<PathBuf>,
     },
