@@ -66,6 +66,7 @@ pub struct Dopri<B: Backend> {
     rtol: S<B>,
     atol: S<B>,
     h_next: Option<S<B>>,
+    max_substeps: u32,
 }
 
 impl<B: Backend> Dopri<B> {
@@ -89,7 +90,18 @@ impl<B: Backend> Dopri<B> {
             rtol: tol,
             atol: tol,
             h_next: None,
+            max_substeps: u32::MAX,
         }
+    }
+
+    /// Fail a call with [`StepError::TooManySubsteps`] once it has taken
+    /// `n` substeps (accepted or rejected). A solution that blows up in
+    /// finite time otherwise makes one call grind through millions of
+    /// ever smaller substeps before anything outside can look at it; a
+    /// Monte Carlo driver classifies such a sample as diverged instead.
+    pub fn max_substeps(mut self, n: u32) -> Self {
+        self.max_substeps = n;
+        self
     }
 
     /// The tolerance in use (after the floor).
@@ -301,6 +313,13 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
             } else {
                 stats.rejected += 1;
                 hs *= fac.min(S::<B>::one());
+            }
+            if stats.substeps.saturating_add(stats.rejected) >= self.max_substeps {
+                return Err(StepError::TooManySubsteps {
+                    t: tc.to_f64_lossless(),
+                    h: hs.to_f64_lossless(),
+                    substeps: self.max_substeps,
+                });
             }
             if hs <= (tc.abs() + h) * S::<B>::epsilon() * l(16.0) {
                 return Err(StepError::StepTooSmall {

@@ -115,6 +115,15 @@ pub enum StepError {
         /// The step size proposed.
         h: f64,
     },
+    /// One call took more substeps than its cap ([`Dopri::max_substeps`]).
+    TooManySubsteps {
+        /// Time where it happened.
+        t: f64,
+        /// The substep size then.
+        h: f64,
+        /// The cap.
+        substeps: u32,
+    },
 }
 
 impl fmt::Display for StepError {
@@ -143,6 +152,10 @@ impl fmt::Display for StepError {
             StepError::StepTooSmall { t, h } => write!(
                 f,
                 "adaptive step size fell to {h:e} at t = {t}: tolerance too tight for the scalar type"
+            ),
+            StepError::TooManySubsteps { t, h, substeps } => write!(
+                f,
+                "more than {substeps} substeps in one call (at t = {t}, substep {h:e}): the solution is blowing up or too stiff"
             ),
         }
     }

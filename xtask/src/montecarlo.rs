@@ -369,6 +369,17 @@ pub fn scene(setup: &Setup, init: &Initial) -> Scene {
 pub const DIVERGED_OMEGA: f64 = 200.0;
 /// ‖e_x‖ above which a sample counts as diverged, m.
 pub const DIVERGED_X: f64 = 100.0;
+/// ‖M‖ of the command above which a sample counts as diverged, N m: 40×
+/// the largest moment any converging sample of a 10 000-sample run
+/// commanded (rotor peaks to 2.4e4 N on the 0.02 s grid, ≈ 7.6e3 N m),
+/// and ~10⁵× what the paper's rotors deliver. Without it, a diverging
+/// sample spends ~4·10⁵ adaptive steps before |Ω| passes its bound.
+pub const DIVERGED_MOMENT: f64 = 3e5;
+
+/// Substeps one dopri call (one 0.02 s record interval) may take: converging
+/// samples take a few; a blow-up near the computed attitude's singularity
+/// took 4·10⁶ in one call before the cap.
+pub const MAX_SUBSTEPS: u32 = 20_000;
 
 /// How a sample ended.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -377,7 +388,9 @@ pub enum Status {
     Converged,
     /// The deadline came first.
     Deadline,
-    /// |Ω| or ‖e_x‖ passed [`DIVERGED_OMEGA`] / [`DIVERGED_X`].
+    /// |Ω|, ‖e_x‖ or ‖M‖ passed [`DIVERGED_OMEGA`] / [`DIVERGED_X`] /
+    /// [`DIVERGED_MOMENT`], or a dopri call needed more than
+    /// [`MAX_SUBSTEPS`].
     Diverged,
     /// The integrator stopped (a non-finite state at this step size).
     Error,
@@ -419,6 +432,8 @@ pub struct Outcome {
     pub final_ex: f64,
     pub max_thrust: f64,
     pub max_rotor: f64,
+    /// Integrator steps (0 when the integrator stopped the sample: the
+    /// count is lost with the run).
     pub steps: u64,
     pub status: Status,
 }
@@ -585,7 +600,6 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
         },
     );
     let mut b = Simulation::<B, 6>::builder(vehicle)
-        .integrator(stepper)
         .initial(body)
         .dt(setup.dt)
         .duration(setup.deadline)
@@ -595,17 +609,38 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
         b = b.segment(seg);
     }
     let mut peaks = Peaks::default();
-    let result = b.build().map_err(|e| e.to_string())?.run(RunOptions {
+    let opts = RunOptions {
         record: false,
         sink: Some(&mut peaks),
         ..Default::default()
-    });
+    };
+    let result = if kind == integrators::IntegratorKind::Dopri {
+        // A capped dopri: a call that needs more than MAX_SUBSTEPS
+        // substeps is a solution blowing up between two checks of the
+        // divergence guard (classified as diverged below).
+        let dopri = integrators::Dopri::<B>::new(setup.tol).max_substeps(MAX_SUBSTEPS);
+        b.integrator(dopri)
+            .build()
+            .map_err(|e| e.to_string())?
+            .run(opts)
+    } else {
+        b.integrator(stepper)
+            .build()
+            .map_err(|e| e.to_string())?
+            .run(opts)
+    };
     let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     let out = match result {
         Ok(out) => out,
         // A step that produced a non-finite state: the sample is recorded
-        // as an error (its replay command shows it), the run goes on.
-        Err(scenarios::SimError::Step(_)) => {
+        // as an error (its replay command shows it), the run goes on; a
+        // capped dopri call that ran out of substeps is a divergence.
+        Err(scenarios::SimError::Step(msg)) => {
+            let status = if msg.contains("substeps in one call") {
+                Status::Diverged
+            } else {
+                Status::Error
+            };
             return Ok(Outcome {
                 index,
                 angle: init.angle(),
@@ -619,7 +654,7 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
                 max_thrust: peaks.thrust,
                 max_rotor: peaks.rotor,
                 steps: 0,
-                status: Status::Error,
+                status,
             });
         }
         Err(e) => return Err(format!("sample {index}: {e}")),
@@ -806,7 +841,7 @@ fn print_summary(s: &serde_json::Value) {
         f("/largest_angle_deg"),
     );
     println!(
-        "not converged: {} at the deadline, {} diverged (|Ω| > {DIVERGED_OMEGA} rad/s or ‖e_x‖ > {DIVERGED_X} m), {} integrator errors",
+        "not converged: {} at the deadline, {} diverged (|Ω| > {DIVERGED_OMEGA} rad/s, ‖e_x‖ > {DIVERGED_X} m or ‖M‖ > {DIVERGED_MOMENT:e} N m), {} integrator errors",
         s["deadline"], s["diverged"], s["errors"]
     );
     println!(
@@ -1317,6 +1352,18 @@ mod tests {
         let e = merge(&dirs[..1], Some(&d("bad"))).unwrap_err();
         assert!(e.contains("missing"), "{e}");
         std::fs::remove_dir_all(&base).ok();
+    }
+
+    /// Sample 4331 of seed 1 blows up (|Ω| ~ 10⁵ rad/s within 2 s); the
+    /// capped dopri stops it and it counts as diverged (before the cap it
+    /// took 4.9·10⁶ steps; now it is one call's 20 000).
+    #[test]
+    fn a_blow_up_is_diverged_and_cheap() {
+        let mut setup = Setup::from_args(&default_args());
+        setup.samples = 10_000;
+        let r = run_sample(&setup, 4331).unwrap();
+        assert_eq!(r.status, Status::Diverged);
+        assert!(!r.converged && r.t_converge.is_nan());
     }
 
     #[test]
