@@ -887,19 +887,24 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     crate::plot::montecarlo(dir, rows)?;
     print_summary(&summary);
-    if let Some(worst) = summary["slowest"][0]["index"].as_u64() {
-        let init = initial(setup, worst);
-        let mut sc = scene(setup, &init);
+    // The replay is the slowest *converged* sample: a diverging one would
+    // make `cargo xtask run` (uncapped dopri) grind through its blow-up;
+    // those are re-run with their `--index` command instead.
+    let worst = rows
+        .iter()
+        .filter(|r| r.converged)
+        .max_by(|a, b| a.t_converge.total_cmp(&b.t_converge));
+    if let Some(r) = worst {
+        let mut sc = scene(setup, &initial(setup, r.index));
         // Long enough to see the convergence and a little after.
-        let r = &rows.iter().find(|r| r.index == worst).expect("in rows");
-        if r.converged {
-            sc.duration = (r.t_converge + setup.hold + 2.0).min(setup.deadline);
-        }
-        sc.name = format!("montecarlo-{}-worst-{worst}", setup.experiment);
+        sc.duration = (r.t_converge + setup.hold + 2.0).min(setup.deadline);
+        sc.name = format!("montecarlo-{}-slowest-{}", setup.experiment, r.index);
         let path = dir.join("worst.toml");
         write_atomic(&path, sc.to_toml().as_bytes())?;
         println!(
-            "worst sample's scene: cargo xtask run {} --mcap worst.mcap",
+            "slowest converged sample (#{}, {:.3} s) as a scene: cargo xtask run {} --mcap worst.mcap",
+            r.index,
+            r.t_converge,
             path.display()
         );
     }
