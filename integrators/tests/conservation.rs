@@ -229,3 +229,29 @@ fn every_stepper_in_f32_and_f64() {
         );
     }
 }
+
+/// `Dopri::max_substeps`: a call that needs more substeps than the cap
+/// fails with `TooManySubsteps` (the free body over 10 s at tolerance
+/// 1e-12 takes far more than 5) and leaves the state as it was; the same
+/// call without the cap succeeds.
+#[test]
+fn dopri_substep_cap() {
+    let body = FreeRigidBody::<B>::diag123();
+    let mut sys = OpenLoop::new(&body, Wrench::zero());
+    let y0 = free_start::<B>();
+    let mut y = y0;
+    let err = Dopri::<B>::new(1e-12)
+        .max_substeps(5)
+        .step(&mut sys, 0.0, 10.0, &mut y)
+        .unwrap_err();
+    assert!(
+        matches!(err, StepError::TooManySubsteps { substeps: 5, .. }),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("substeps in one call"), "{err}");
+    assert_eq!(y.body.omega, y0.body.omega);
+    let stats = Dopri::<B>::new(1e-12)
+        .step(&mut sys, 0.0, 10.0, &mut y)
+        .unwrap();
+    assert!(stats.substeps > 5, "{} substeps", stats.substeps);
+}
