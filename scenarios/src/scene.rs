@@ -476,8 +476,8 @@ impl Scene {
             .validate()
             .and_then(|()| scene.check_kind(custom_kinds))
             .map_err(|(key, msg)| SceneError {
+                location: locate_error(text, key, &msg).map(|(l, c)| format!("{origin}:{l}:{c}")),
                 message: msg,
-                location: locate_key(text, key).map(|(l, c)| format!("{origin}:{l}:{c}")),
             })?;
         Ok(scene)
     }
@@ -625,9 +625,11 @@ impl Scene {
                         ),
                     ));
                 }
-                continue;
             }
             match seg.until {
+                // A Ψ-switched segment's own checks are above; its mode and
+                // references are checked below like any other's.
+                _ if seg.until_psi.is_some() => {}
                 Some(u) if !(u.is_finite() && u > last) => {
                     return Err((
                         "until",
@@ -686,13 +688,56 @@ impl Scene {
                 }
                 _ => {}
             }
-            if let Some(PositionRef::Hold { b1d, .. }) = &seg.position
-                && b1d.iter().map(|c| c * c).sum::<f64>() < 1e-12
-            {
-                return Err((
-                    "b1d",
-                    format!("plan[{k}] `b1d` = {b1d:?}: must be non-zero"),
-                ));
+            // Reference parameters: a NaN here would surface only as a
+            // non-finite command mid-run.
+            let num = |key: &'static str, v: f64| -> Result<(), (&'static str, String)> {
+                if v.is_finite() {
+                    Ok(())
+                } else {
+                    Err((key, format!("plan[{k}] `{key}` = {v}: must be finite")))
+                }
+            };
+            let num3 = |key: &'static str, v: &[f64; 3]| -> Result<(), (&'static str, String)> {
+                if v.iter().all(|c| c.is_finite()) {
+                    Ok(())
+                } else {
+                    Err((key, format!("plan[{k}] `{key}` = {v:?}: must be finite")))
+                }
+            };
+            match &seg.attitude {
+                Some(AttitudeRef::EulerExperiment {
+                    amplitude,
+                    frequency,
+                }) => {
+                    num("amplitude", *amplitude)?;
+                    num("frequency", *frequency)?;
+                }
+                Some(AttitudeRef::Hold { rotation }) => num3("rotation", rotation)?,
+                Some(AttitudeRef::PaperFlip) | None => {}
+            }
+            match &seg.position {
+                Some(PositionRef::Hold { x, b1d }) => {
+                    num3("x", x)?;
+                    num3("b1d", b1d)?;
+                    if b1d.iter().map(|c| c * c).sum::<f64>() < 1e-12 {
+                        return Err((
+                            "b1d",
+                            format!("plan[{k}] `b1d` = {b1d:?}: must be non-zero"),
+                        ));
+                    }
+                }
+                Some(PositionRef::FigureEight {
+                    center,
+                    a,
+                    b,
+                    omega,
+                }) => {
+                    num3("center", center)?;
+                    num("a", *a)?;
+                    num("b", *b)?;
+                    num("omega", *omega)?;
+                }
+                None => {}
             }
         }
         if !self.plan.is_empty() && self.vehicle.kind == VehicleKind::FreeRigidBody {
@@ -712,14 +757,74 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// Where a validation error about `key` points: for a message about
+/// `plan[k]`, the key inside the k-th `[[plan]]` segment (or that segment's
+/// header when the key is missing there); otherwise the first `key`.
+fn locate_error(text: &str, key: &str, message: &str) -> Option<(usize, usize)> {
+    let segment = message
+        .strip_prefix("plan[")
+        .and_then(|r| r.split(']').next())
+        .and_then(|k| k.parse::<usize>().ok());
+    if let Some(k) = segment {
+        let lines: Vec<&str> = text.lines().collect();
+        let starts: Vec<usize> = (0..lines.len())
+            .filter(|&i| lines[i].trim().starts_with("[[plan]]"))
+            .collect();
+        if let Some(&start) = starts.get(k) {
+            // The segment runs to the next header that is not a sub-table
+            // of this segment.
+            let end = (start + 1..lines.len())
+                .find(|&i| {
+                    let t = lines[i].trim();
+                    t.starts_with('[') && !t.starts_with("[plan.")
+                })
+                .unwrap_or(lines.len());
+            let body = lines[start..end].join("\n");
+            return Some(locate_key(&body, key).map_or((start + 1, 1), |(l, c)| (start + l, c)));
+        }
+    }
+    locate_key(text, key)
+}
+
 /// First `key =` in the text (the dotted context is in the message).
 fn locate_key(text: &str, key: &str) -> Option<(usize, usize)> {
+    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    // `key = …` at the start of a line, then anywhere in one (an inline
+    // table), then a table header ending in the key (`[vehicle.params]`).
+    let assignment = |line: &str, from_start: bool| -> Option<usize> {
+        let mut search = 0;
+        while let Some(off) = line[search..].find(key) {
+            let at = search + off;
+            let before_ok = line[..at].chars().next_back().is_none_or(|c| !is_ident(c));
+            let rest = &line[at + key.len()..];
+            if before_ok
+                && rest.trim_start().starts_with('=')
+                && (!from_start || line[..at].trim().is_empty())
+            {
+                return Some(at);
+            }
+            search = at + key.len();
+        }
+        None
+    };
+    for from_start in [true, false] {
+        for (i, line) in text.lines().enumerate() {
+            if let Some(at) = assignment(line, from_start) {
+                return Some((i + 1, line[..at].chars().count() + 1));
+            }
+        }
+    }
     for (i, line) in text.lines().enumerate() {
-        let t = line.trim_start();
-        if let Some(rest) = t.strip_prefix(key)
-            && rest.trim_start().starts_with('=')
-        {
-            return Some((i + 1, line.len() - t.len() + 1));
+        let t = line.trim();
+        if t.starts_with('[') {
+            let name = t.trim_matches(|c| c == '[' || c == ']').trim();
+            if name
+                .rsplit('.')
+                .next()
+                .is_some_and(|last| last.trim() == key)
+            {
+                return Some((i + 1, line.len() - line.trim_start().len() + 1));
+            }
         }
     }
     None
