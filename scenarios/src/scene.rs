@@ -597,8 +597,20 @@ impl Scene {
             ));
         }
         pos("tol", self.integrator.tol)?;
+        // Checked even when unused (continuous control): a NaN in a file
+        // is a mistake whatever the timing.
         if self.control.timing == Timing::Sampled {
-            pos("rate", self.control.rate)?;
+            if !(self.control.rate.is_finite() && self.control.rate > 0.0) {
+                return Err((
+                    "rate",
+                    format!(
+                        "`rate` = {}: `timing = \"sampled\"` needs a controller rate > 0 (Hz) in [control]",
+                        self.control.rate
+                    ),
+                ));
+            }
+        } else {
+            nonneg("rate", self.control.rate)?;
         }
         nonneg("sample", self.record.sample)?;
         let mut last = 0.0;
@@ -783,7 +795,26 @@ fn locate_error(text: &str, key: &str, message: &str) -> Option<(usize, usize)> 
             return Some(locate_key(&body, key).map_or((start + 1, 1), |(l, c)| (start + l, c)));
         }
     }
-    locate_key(text, key)
+    locate_key(text, key).or_else(|| {
+        // The key is absent (its default failed a check that depends on
+        // another key): point at its table's header, else the file's start.
+        let table = match key {
+            "rate" | "timing" | "compensate_configuration_moment" => "control",
+            "dt" | "tol" | "locate_events" => "integrator",
+            "sample" => "record",
+            "force" | "moment" => "disturbance",
+            "mass" | "inertia" | "gravity" | "arm" | "c_tau_f" | "stand_height" | "params" => {
+                "vehicle"
+            }
+            _ => "",
+        };
+        let header = format!("[{table}]");
+        Some(
+            text.lines()
+                .position(|l| !table.is_empty() && l.trim() == header)
+                .map_or((1, 1), |i| (i + 1, 1)),
+        )
+    })
 }
 
 /// First `key =` in the text (the dotted context is in the message).

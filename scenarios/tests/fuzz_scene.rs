@@ -328,7 +328,7 @@ fn fuzz_for_a_while() {
     while start.elapsed().as_secs() < secs {
         let mut seed = [0u8; 32];
         seed[..8].copy_from_slice(&round.to_le_bytes());
-        seed[8..16].copy_from_slice(&0x5CE7E_F022u64.to_le_bytes());
+        seed[8..16].copy_from_slice(&0x0005_CE7E_F022_u64.to_le_bytes());
         let config = Config {
             cases: 500,
             failure_persistence: None,
@@ -439,4 +439,26 @@ fn until_psi_segments_are_checked_like_any_other() {
     let (key, msg) = scene.validate().unwrap_err();
     assert_eq!(key, "mode", "{msg}");
     assert!(msg.contains("plan[0]"), "{msg}");
+}
+
+/// Found by the campaign: `rate = nan` was accepted under continuous
+/// control (where the rate is unused).
+#[test]
+fn found_nan_rate_under_continuous_control() {
+    let text = flip_with("rate", "rate = nan");
+    assert!(text.contains("timing = \"continuous\""));
+    let (msg, line) = rejected_at(&text);
+    assert!(msg.contains("`rate` = NaN"), "{msg}");
+    assert_eq!(line, line_of(&text, "rate = nan"));
+}
+
+/// Found by the campaign: `timing = "sampled"` without a `rate` line was
+/// rejected without a location (the key is absent); it now points at
+/// `[control]` and says what is missing.
+#[test]
+fn found_sampled_without_rate_points_at_control() {
+    let text = flip_with("timing", "timing = \"sampled\"").replace("rate = 0.0", "");
+    let (msg, line) = rejected_at(&text);
+    assert!(msg.contains("needs a controller rate"), "{msg}");
+    assert_eq!(line, line_of(&text, "[control]"));
 }

@@ -17,6 +17,9 @@
 //! * `regress [--quick]` — every built-in scene against its expectations.
 //! * `montecarlo` — converged fraction and time to converge over random
 //!   initial conditions (threads, shards, `merge`, `near-pi`).
+//! * `stress [--quick]` — numerical stress cases against written bounds
+//!   (long horizon, free body, step limits, high rates, f32 vs f64, a NaN
+//!   injected mid-run with the logs read back).
 //! * `sweep [scene]` — run time against error, every stepper (work-precision).
 //! * `gains <scene>` — the conditions of Propositions 2 and 3 for a scene's
 //!   gains, with bounds from the scene; `--synthesize` searches for gains
@@ -29,6 +32,7 @@ mod montecarlo;
 mod plot;
 mod regress;
 mod run;
+mod stress;
 mod sweep;
 
 use std::collections::BTreeMap;
@@ -62,6 +66,10 @@ enum Cmd {
     Montecarlo(Box<montecarlo::McArgs>),
     /// Run time against error for every stepper on one scene.
     Sweep(sweep::SweepArgs),
+    /// Numerical stress cases, each against a bound with its reason:
+    /// long horizon, free body 10⁴ s, step-size limits, high rates, f32 vs
+    /// f64, a NaN injected mid-run (--quick: under two minutes).
+    Stress(stress::StressArgs),
     /// Criterion benches (controller update, closed-loop step) against
     /// hand-written twins, and work-precision on every pair; writes
     /// target/bench/{summary.csv, work_precision.csv, work_precision.svg,
@@ -88,6 +96,7 @@ fn main() -> ExitCode {
         },
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Stress(a) => stress::stress(a),
         Cmd::Montecarlo(a) => montecarlo::montecarlo(*a),
         Cmd::Gains(a) => gains::gains(*a),
         Cmd::Bench(a) => bench::bench(a),

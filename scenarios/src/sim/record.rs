@@ -72,7 +72,7 @@ pub(crate) fn sample<B: Backend, const N: usize>(
         sys.command(S::<B>::lit(t), y)
     };
     if let Some(e) = sys.error.take() {
-        return Err(SimError::Control(e));
+        return Err(SimError::Control(format!("at t = {t}: {e}")));
     }
     let mut s = empty_sample();
     s.t = t;

@@ -192,8 +192,11 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             let before = y;
             let stats = stepper.step(&mut sys, l(t), l(h), &mut y).map_err(|e| {
                 SimError::Step(match sys.error.take() {
-                    // The controller saw a non-finite state first: the
-                    // step before diverged (step too large?).
+                    // A non-finite reference is the reference's fault;
+                    // a non-finite state means the step diverged.
+                    Some(c) if c.contains("`reference") => format!(
+                        "in the step from t = {t} (h = {h}): {c}: the reference returned NaN or ∞ there"
+                    ),
                     Some(c) => format!(
                         "in the step from t = {t} (h = {h}): {c}; the state diverged — try a smaller --dt"
                     ),
