@@ -9,10 +9,12 @@
 //! name. [`write_csv`] and [`write_mcap`] write a finished [`RunOutput`]
 //! through the same writers.
 //!
-//! Numbers are written in the shortest form that parses back to the same
-//! f64 (the `zmij` formatter, which `serde_json` uses too): a CSV or JSON
-//! value read back is the sample's value bit for bit. A non-finite value is
-//! `NaN`/`inf` in the CSV and `null` in JSON (which has no NaN).
+//! CSV numbers are written in the shortest form that parses back to the
+//! same f64 (the `zmij` formatter, which `serde_json` uses too), so a value
+//! read back is the sample's bit for bit; a non-finite value is `NaN`/`inf`.
+//! MCAP messages are protobuf (Foxglove's `PoseInFrame` and
+//! `FrameTransform`, and the [`msg`] types), whose doubles are the
+//! sample's bits.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -100,40 +102,40 @@ fn push_num(buf: &mut Vec<u8>, x: f64) {
     buf.extend_from_slice(b.format(x).as_bytes());
 }
 
-/// As [`push_num`], `null` when not finite (JSON has no NaN).
-fn push_json_num(buf: &mut Vec<u8>, x: f64) {
-    if x.is_finite() {
-        let mut b = zmij::Buffer::new();
-        buf.extend_from_slice(b.format_finite(x).as_bytes());
-    } else {
-        buf.extend_from_slice(b"null");
-    }
+/// Numbers of a row before the mode column: t, x, v, R (rows), Ω, Ψ,
+/// ‖e_x‖, f, M.
+const CSV_FIXED: usize = 25;
+
+/// A row's numbers in column order: the fixed ones, then the vehicle's
+/// states.
+fn csv_numbers(s: &Sample, out: &mut Vec<f64>) {
+    out.push(s.t);
+    out.extend_from_slice(&s.x);
+    out.extend_from_slice(&s.v);
+    s.r.iter().for_each(|r| out.extend_from_slice(r));
+    out.extend_from_slice(&s.omega);
+    out.extend_from_slice(&[s.psi, s.ex, s.thrust]);
+    out.extend_from_slice(&s.moment);
+    out.extend_from_slice(&s.vehicle_states);
 }
 
-fn push_int(buf: &mut Vec<u8>, n: u64) {
-    let mut b = itoa::Buffer::new();
-    buf.extend_from_slice(b.format(n).as_bytes());
+/// Formats one row (no line end) from its numbers and mode.
+fn push_csv_row_from(row: &mut Vec<u8>, nums: &[f64], mode: &str) {
+    for &x in &nums[..CSV_FIXED] {
+        push_num(row, x);
+        row.push(b',');
+    }
+    row.extend_from_slice(mode.as_bytes());
+    for &x in &nums[CSV_FIXED..] {
+        row.push(b',');
+        push_num(row, x);
+    }
 }
 
 fn push_csv_row(row: &mut Vec<u8>, s: &Sample) {
-    let mut push = |x: f64| {
-        push_num(row, x);
-        row.push(b',');
-    };
-    push(s.t);
-    s.x.iter().for_each(|&c| push(c));
-    s.v.iter().for_each(|&c| push(c));
-    s.r.iter().flatten().for_each(|&c| push(c));
-    s.omega.iter().for_each(|&c| push(c));
-    push(s.psi);
-    push(s.ex);
-    push(s.thrust);
-    s.moment.iter().for_each(|&c| push(c));
-    row.extend_from_slice(s.mode.as_bytes());
-    for &c in &s.vehicle_states {
-        row.push(b',');
-        push_num(row, c);
-    }
+    let mut nums = Vec::with_capacity(CSV_FIXED + s.vehicle_states.len());
+    csv_numbers(s, &mut nums);
+    push_csv_row_from(row, &nums, s.mode);
 }
 
 /// One CSV row (at a switch time the row carries the command that acts
@@ -154,30 +156,138 @@ pub fn csv_header(n: usize) -> String {
     h
 }
 
+/// A writer thread fed batches through a bounded queue (two in flight:
+/// enough to ride out a slow write, and memory stays a few MB); a writer
+/// slower than the simulation slows it down instead of piling up samples.
+struct Worker<T, R> {
+    path: PathBuf,
+    what: &'static str,
+    tx: Option<std::sync::mpsc::SyncSender<T>>,
+    thread: Option<std::thread::JoinHandle<Result<R, String>>>,
+}
+
+impl<T: Send + 'static, R: Send + 'static> Worker<T, R> {
+    fn spawn(
+        path: &Path,
+        what: &'static str,
+        work: impl FnOnce(std::sync::mpsc::Receiver<T>) -> Result<R, String> + Send + 'static,
+    ) -> Result<Self, OutputError> {
+        let (tx, rx) = std::sync::mpsc::sync_channel::<T>(2);
+        let thread = std::thread::Builder::new()
+            .name(what.into())
+            .spawn(move || work(rx))
+            .map_err(|e| err(path, e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            what,
+            tx: Some(tx),
+            thread: Some(thread),
+        })
+    }
+
+    fn send(&mut self, batch: T) -> Result<(), OutputError> {
+        let tx = self
+            .tx
+            .as_ref()
+            .ok_or_else(|| err(&self.path, "finished"))?;
+        if tx.send(batch).is_err() {
+            // The thread stopped on an error: report it.
+            return Err(match self.join() {
+                Err(e) => e,
+                Ok(_) => err(&self.path, format!("the {} thread stopped", self.what)),
+            });
+        }
+        Ok(())
+    }
+
+    /// Closes the queue and waits for the thread's result.
+    fn join(&mut self) -> Result<R, OutputError> {
+        self.tx = None;
+        let h = self.thread.take().ok_or_else(|| {
+            err(
+                &self.path,
+                format!("the {} thread already failed", self.what),
+            )
+        })?;
+        match h.join() {
+            Ok(r) => r.map_err(|e| err(&self.path, e)),
+            Err(_) => Err(err(
+                &self.path,
+                format!("the {} thread panicked", self.what),
+            )),
+        }
+    }
+}
+
+/// Rows handed to the CSV thread: their numbers (`width` per row) and
+/// modes.
+struct CsvBatch {
+    width: usize,
+    nums: Vec<f64>,
+    modes: Vec<&'static str>,
+}
+
+/// Rows per batch handed to the CSV thread.
+const CSV_BATCH: usize = 4096;
+
+/// The CSV thread: the header at the first batch (whose width tells the
+/// vehicle's state count), then whole rows.
+fn write_csv_batches(
+    mut w: BufWriter<File>,
+    rx: std::sync::mpsc::Receiver<CsvBatch>,
+) -> std::io::Result<BufWriter<File>> {
+    let mut header = false;
+    let mut row = Vec::with_capacity(1024);
+    for b in rx {
+        if !header {
+            header = true;
+            writeln!(w, "{}", csv_header(b.width - CSV_FIXED))?;
+        }
+        for (nums, mode) in b.nums.chunks_exact(b.width).zip(&b.modes) {
+            row.clear();
+            push_csv_row_from(&mut row, nums, mode);
+            row.push(b'\n');
+            w.write_all(&row)?;
+        }
+    }
+    Ok(w)
+}
+
 /// Streams samples to a CSV file (the header comes with the first sample,
 /// which tells the vehicle's internal-state count). Rows are whole lines:
 /// what [`CsvWriter::finish`] flushes ends with the last complete row.
+///
+/// The caller's thread only copies each sample's numbers; a thread of the
+/// writer's own formats and writes them (shortest round-trip decimals cost
+/// more than the simulation step at 1 kHz sampling), through a bounded
+/// queue, as [`McapWriter`] does.
 pub struct CsvWriter {
     path: PathBuf,
     tmp: PathBuf,
-    w: BufWriter<File>,
-    row: Vec<u8>,
+    batch: CsvBatch,
     rows: u64,
-    header: bool,
+    worker: Worker<CsvBatch, BufWriter<File>>,
 }
 
 impl CsvWriter {
-    /// Creates `<path>.partial`.
+    /// Creates `<path>.partial` and starts the writer thread.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let tmp = temp_path(path);
         let f = File::create(&tmp).map_err(|e| err(path, e))?;
+        let w = BufWriter::with_capacity(1 << 16, f);
+        let worker = Worker::spawn(path, "csv-writer", move |rx| {
+            write_csv_batches(w, rx).map_err(|e| e.to_string())
+        })?;
         Ok(Self {
             path: path.to_path_buf(),
             tmp,
-            w: BufWriter::with_capacity(1 << 16, f),
-            row: Vec::with_capacity(512),
+            batch: CsvBatch {
+                width: 0,
+                nums: Vec::new(),
+                modes: Vec::new(),
+            },
             rows: 0,
-            header: false,
+            worker,
         })
     }
 
@@ -186,17 +296,27 @@ impl CsvWriter {
         self.rows
     }
 
-    /// Flushes, syncs and renames `<path>.partial` to `<path>`; returns the
-    /// row count.
+    fn send(&mut self) -> Result<(), OutputError> {
+        let width = self.batch.width;
+        let next = CsvBatch {
+            width,
+            nums: Vec::with_capacity(width * CSV_BATCH),
+            modes: Vec::with_capacity(CSV_BATCH),
+        };
+        let batch = std::mem::replace(&mut self.batch, next);
+        self.worker.send(batch)
+    }
+
+    /// Writes what is queued, flushes, syncs and renames `<path>.partial`
+    /// to `<path>`; returns the row count.
     pub fn finish(mut self) -> Result<u64, OutputError> {
-        if !self.header {
-            let h = csv_header(0);
-            writeln!(self.w, "{h}").map_err(|e| err(&self.path, e))?;
+        if self.batch.width == 0 {
+            // No sample: the header alone.
+            self.batch.width = CSV_FIXED;
         }
-        let f = self
-            .w
-            .into_inner()
-            .map_err(|e| err(&self.path, e.error()))?;
+        self.send()?;
+        let w = self.worker.join()?;
+        let f = w.into_inner().map_err(|e| err(&self.path, e.error()))?;
         f.sync_all().map_err(|e| err(&self.path, e))?;
         std::fs::rename(&self.tmp, &self.path).map_err(|e| err(&self.path, e))?;
         Ok(self.rows)
@@ -211,18 +331,25 @@ impl Sink for CsvWriter {
         Ok(())
     }
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
-        if !self.header {
-            self.header = true;
-            let h = csv_header(s.vehicle_states.len());
-            writeln!(self.w, "{h}").map_err(|e| err(&self.path, e))?;
+        let width = CSV_FIXED + s.vehicle_states.len();
+        if self.batch.width == 0 {
+            self.batch.width = width;
+        } else if width != self.batch.width {
+            return Err(err(
+                &self.path,
+                format!(
+                    "a sample with {} vehicle states after rows with {}: the columns are fixed by the first",
+                    s.vehicle_states.len(),
+                    self.batch.width - CSV_FIXED
+                ),
+            ));
         }
-        self.row.clear();
-        push_csv_row(&mut self.row, s);
-        self.row.push(b'\n');
-        self.w
-            .write_all(&self.row)
-            .map_err(|e| err(&self.path, e))?;
+        csv_numbers(s, &mut self.batch.nums);
+        self.batch.modes.push(s.mode);
         self.rows += 1;
+        if self.batch.modes.len() >= CSV_BATCH {
+            self.send()?;
+        }
         Ok(())
     }
 }
@@ -262,95 +389,100 @@ pub const TOPICS: [&str; 7] = [
     "/mode",
 ];
 
-const VEC3: &str = r#"{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]}"#;
-const QUAT: &str = r#"{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}"#;
-const TIME: &str = r#"{"type":"object","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer","minimum":0,"maximum":999999999}},"required":["sec","nsec"]}"#;
+/// The messages of the `gpid` channels, protobuf-encoded through the
+/// `foxglove` crate's derive (each type's schema is a protobuf
+/// `FileDescriptorSet` stored in the MCAP, so any protobuf reader decodes
+/// them; the poses and transforms are Foxglove's own `PoseInFrame` and
+/// `FrameTransform`).
+pub mod msg {
+    pub use foxglove::messages::{
+        FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3,
+    };
 
-fn pose_in_frame_schema() -> String {
-    format!(
-        r#"{{"title":"foxglove.PoseInFrame","type":"object","properties":{{"timestamp":{TIME},"frame_id":{{"type":"string"}},"pose":{{"type":"object","properties":{{"position":{VEC3},"orientation":{QUAT}}},"required":["position","orientation"]}}}},"required":["timestamp","frame_id","pose"]}}"#
-    )
+    /// `/errors`: Ψ, ‖e_x‖, e_x = x − x_d, Ω and Ω_d (or Ω_c).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Errors {
+        /// Ψ against the active desired attitude.
+        pub psi: f64,
+        /// ‖x − x_d‖, m.
+        pub ex: f64,
+        /// x − x_d, m.
+        pub e_x: Vector3,
+        /// Body angular velocity, rad/s.
+        pub omega: Vector3,
+        /// Desired angular velocity, rad/s.
+        pub omega_d: Vector3,
+    }
+
+    /// `/command`: the commanded thrust and moment, the rotor thrusts
+    /// delivered.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Command {
+        /// N.
+        pub thrust: f64,
+        /// N m, body frame.
+        pub moment: Vector3,
+        /// N, one per rotor (empty without rotors).
+        pub rotor_thrusts: Vec<f64>,
+    }
+
+    /// `/integrals`: the integral states (named so because protobuf's
+    /// JSON names of `e_I` and `e_i` would collide).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Integrals {
+        /// e_I, the attitude integral (register slots 0–2).
+        pub attitude: Vector3,
+        /// e_i, the position integral (slots 3–5).
+        pub position: Vector3,
+    }
+
+    /// `/mode`: a switch, and the first mode at t = 0.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct ModeSwitch {
+        /// s.
+        pub t: f64,
+        /// Segment left.
+        pub from: u32,
+        /// Segment entered.
+        pub to: u32,
+        /// Its mode's name.
+        pub mode: String,
+    }
+
+    /// `/vehicle/states`: a vehicle's internal states.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct VehicleStates {
+        /// In the vehicle's own order.
+        pub states: Vec<f64>,
+    }
 }
 
-fn frame_transform_schema() -> String {
-    format!(
-        r#"{{"title":"foxglove.FrameTransform","type":"object","properties":{{"timestamp":{TIME},"parent_frame_id":{{"type":"string"}},"child_frame_id":{{"type":"string"}},"translation":{VEC3},"rotation":{QUAT}}},"required":["timestamp","parent_frame_id","child_frame_id","translation","rotation"]}}"#
-    )
+use foxglove::Encode as _;
+use msg::{FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3};
+
+fn v3(a: [f64; 3]) -> Vector3 {
+    Vector3 {
+        x: a[0],
+        y: a[1],
+        z: a[2],
+    }
 }
 
-fn object_schema(title: &str, fields: &[(&str, &str)]) -> String {
-    let props: Vec<String> = fields
-        .iter()
-        .map(|(k, ty)| {
-            let t = match *ty {
-                "vec3" => VEC3.to_string(),
-                "number" => r#"{"type":"number"}"#.to_string(),
-                "integer" => r#"{"type":"integer"}"#.to_string(),
-                "string" => r#"{"type":"string"}"#.to_string(),
-                "array" => r#"{"type":"array","items":{"type":"number"}}"#.to_string(),
-                other => other.to_string(),
-            };
-            format!(r#""{k}":{t}"#)
-        })
-        .collect();
-    let req: Vec<String> = fields.iter().map(|(k, _)| format!(r#""{k}""#)).collect();
-    format!(
-        r#"{{"title":"{title}","type":"object","properties":{{{}}},"required":[{}]}}"#,
-        props.join(","),
-        req.join(",")
-    )
+fn q4(q: [f64; 4]) -> Quaternion {
+    Quaternion {
+        x: q[0],
+        y: q[1],
+        z: q[2],
+        w: q[3],
+    }
 }
 
-/// A message under construction: JSON written straight into a reused
-/// buffer (no intermediate tree, no allocation per message).
-struct Json<'b>(&'b mut Vec<u8>);
-
-impl Json<'_> {
-    fn raw(&mut self, s: &str) -> &mut Self {
-        self.0.extend_from_slice(s.as_bytes());
-        self
-    }
-    fn num(&mut self, x: f64) -> &mut Self {
-        push_json_num(self.0, x);
-        self
-    }
-    fn v3(&mut self, a: [f64; 3]) -> &mut Self {
-        self.raw(r#"{"x":"#)
-            .num(a[0])
-            .raw(r#","y":"#)
-            .num(a[1])
-            .raw(r#","z":"#)
-            .num(a[2])
-            .raw("}")
-    }
-    fn q4(&mut self, q: [f64; 4]) -> &mut Self {
-        self.raw(r#"{"x":"#)
-            .num(q[0])
-            .raw(r#","y":"#)
-            .num(q[1])
-            .raw(r#","z":"#)
-            .num(q[2])
-            .raw(r#","w":"#)
-            .num(q[3])
-            .raw("}")
-    }
-    fn stamp(&mut self, ns: u64) -> &mut Self {
-        self.raw(r#"{"sec":"#);
-        push_int(self.0, ns / 1_000_000_000);
-        self.raw(r#","nsec":"#);
-        push_int(self.0, ns % 1_000_000_000);
-        self.raw("}")
-    }
-    fn array(&mut self, a: &[f64]) -> &mut Self {
-        self.raw("[");
-        for (k, &x) in a.iter().enumerate() {
-            if k > 0 {
-                self.raw(",");
-            }
-            self.num(x);
-        }
-        self.raw("]")
-    }
+fn stamp(ns: u64) -> Option<Timestamp> {
+    // u32 seconds: 136 years of simulated time.
+    Some(Timestamp::new(
+        u32::try_from(ns / 1_000_000_000).unwrap_or(u32::MAX),
+        (ns % 1_000_000_000) as u32,
+    ))
 }
 
 /// Nanoseconds of a sample time (MCAP log times; negative or non-finite
@@ -376,6 +508,19 @@ const STATES_SLOT: u8 = 7;
 
 type Mcap = mcap::Writer<BufWriter<File>>;
 
+/// Appends one protobuf message to `buf` (a growing `Vec` never runs out
+/// of room, so this fails only on a message the type cannot encode).
+fn enc<M: foxglove::Encode>(buf: &mut Vec<u8>, path: &Path, m: &M) -> Result<(), OutputError> {
+    m.encode(buf).map_err(|x| err(path, x))
+}
+
+/// Adds a protobuf schema from the `foxglove` crate's description of a
+/// message type.
+fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> Result<u16, mcap::McapError> {
+    let s = schema.expect("every message type here has a protobuf schema");
+    w.add_schema(&s.name, &s.encoding, &s.data)
+}
+
 /// The writer thread: writes each batch's messages, creating the states
 /// channel at its first message; returns the writer for `finish`.
 fn write_batches(
@@ -392,12 +537,9 @@ fn write_batches(
                 match states {
                     Some(id) => id,
                     None => {
-                        let schema = w.add_schema(
-                            "gpid.VehicleStates",
-                            "jsonschema",
-                            object_schema("gpid.VehicleStates", &[("states", "array")]).as_bytes(),
-                        )?;
-                        let id = w.add_channel(schema, STATES_TOPIC, "json", &BTreeMap::new())?;
+                        let schema = add_schema(&mut w, msg::VehicleStates::get_schema())?;
+                        let id =
+                            w.add_channel(schema, STATES_TOPIC, "protobuf", &BTreeMap::new())?;
                         states = Some(id);
                         id
                     }
@@ -427,14 +569,18 @@ fn write_batches(
 /// `foxglove.FrameTransform` (`world` z-up → `ned` is a half turn about x,
 /// constant, sent with the first sample and then at most every
 /// [`STATIC_TF_NS`] of simulated time; `ned` → `body` is the vehicle pose,
-/// every sample) so Foxglove's 3D panel shows the vehicle upright, and
-/// JSON channels (with JSON schemas) for errors, commands, integral states
-/// and mode switches for its plot panel. Every
-/// message is JSON: the official `mcap` Python reader and `json.loads`
-/// decode it without Foxglove or protobuf tooling. Chunks are
-/// lz4-compressed.
+/// every sample) so Foxglove's 3D panel shows the vehicle upright, and the
+/// [`msg`] channels for errors, commands, integral states and mode switches
+/// for its plot panel. Every message is protobuf with its schema (a
+/// `FileDescriptorSet`) in the file: Foxglove reads it as is, and the
+/// official Python `mcap` reader with `mcap-protobuf-support` decodes every
+/// message (the README has the snippet). Chunks are lz4-compressed.
 ///
-/// The messages are formatted on the caller's thread and written (record
+/// Protobuf rather than JSON: on one hour at 1 kHz it is half the
+/// encoding time and 30 % fewer bytes (doubles are copied, not formatted);
+/// see the README for the measurement.
+///
+/// The messages are encoded on the caller's thread and written (record
 /// framing, lz4, CRCs, I/O) by a thread of the writer's own, through a
 /// bounded queue: on two cores, compression overlaps the simulation, and a
 /// writer slower than the simulation slows it down instead of piling up
@@ -443,11 +589,16 @@ pub struct McapWriter {
     path: PathBuf,
     tmp: PathBuf,
     batch: Batch,
-    tx: Option<std::sync::mpsc::SyncSender<Batch>>,
-    thread: Option<std::thread::JoinHandle<Result<Mcap, mcap::McapError>>>,
+    worker: Worker<Batch, Mcap>,
     mode_names: Vec<&'static str>,
     messages: u64,
     next_static_ns: u64,
+    // Reused messages: their strings and vectors are allocated once.
+    pose: PoseInFrame,
+    world_tf: FrameTransform,
+    body_tf: FrameTransform,
+    command: msg::Command,
+    states: msg::VehicleStates,
 }
 
 /// The longest simulated time between two `world → ned` transforms, ns.
@@ -465,78 +616,51 @@ impl McapWriter {
             .profile("")
             .create(file)
             .map_err(e)?;
-        let pose = w
-            .add_schema(
-                "foxglove.PoseInFrame",
-                "jsonschema",
-                pose_in_frame_schema().as_bytes(),
-            )
-            .map_err(e)?;
-        let tf = w
-            .add_schema(
-                "foxglove.FrameTransform",
-                "jsonschema",
-                frame_transform_schema().as_bytes(),
-            )
-            .map_err(e)?;
-        let mut object = |title: &str, fields: &[(&str, &str)]| {
-            w.add_schema(title, "jsonschema", object_schema(title, fields).as_bytes())
-        };
-        let errors = object(
-            "gpid.Errors",
-            &[
-                ("psi", "number"),
-                ("ex", "number"),
-                ("e_x", "vec3"),
-                ("omega", "vec3"),
-                ("omega_d", "vec3"),
-            ],
-        )
-        .map_err(e)?;
-        let command = object(
-            "gpid.Command",
-            &[
-                ("thrust", "number"),
-                ("moment", "vec3"),
-                ("rotor_thrusts", "array"),
-            ],
-        )
-        .map_err(e)?;
-        let integrals = object("gpid.Integrals", &[("e_I", "vec3"), ("e_i", "vec3")]).map_err(e)?;
-        let mode = object(
-            "gpid.ModeSwitch",
-            &[
-                ("t", "number"),
-                ("from", "integer"),
-                ("to", "integer"),
-                ("mode", "string"),
-            ],
-        )
-        .map_err(e)?;
+        let pose = add_schema(&mut w, PoseInFrame::get_schema()).map_err(e)?;
+        let tf = add_schema(&mut w, FrameTransform::get_schema()).map_err(e)?;
+        let errors = add_schema(&mut w, msg::Errors::get_schema()).map_err(e)?;
+        let command = add_schema(&mut w, msg::Command::get_schema()).map_err(e)?;
+        let integrals = add_schema(&mut w, msg::Integrals::get_schema()).map_err(e)?;
+        let mode = add_schema(&mut w, msg::ModeSwitch::get_schema()).map_err(e)?;
         let meta = BTreeMap::new();
         let mut ch = [0u16; 7];
         for (k, schema) in [pose, pose, tf, errors, command, integrals, mode]
             .into_iter()
             .enumerate()
         {
-            ch[k] = w.add_channel(schema, TOPICS[k], "json", &meta).map_err(e)?;
+            ch[k] = w
+                .add_channel(schema, TOPICS[k], "protobuf", &meta)
+                .map_err(e)?;
         }
-        // Two batches in flight: enough to ride out a slow write, and
-        // memory stays a few MB.
-        let (tx, rx) = std::sync::mpsc::sync_channel::<Batch>(2);
-        let thread = std::thread::Builder::new()
-            .name("mcap-writer".into())
-            .spawn(move || write_batches(w, ch, rx))
-            .map_err(|x| err(path, x))?;
+        let worker = Worker::spawn(path, "mcap-writer", move |rx| {
+            write_batches(w, ch, rx).map_err(|e| e.to_string())
+        })?;
         Ok(Self {
             path: path.to_path_buf(),
             tmp,
             batch: Batch::default(),
-            tx: Some(tx),
-            thread: Some(thread),
+            worker,
             mode_names: Vec::new(),
             messages: 0,
             next_static_ns: 0,
+            pose: PoseInFrame {
+                frame_id: "ned".into(),
+                ..Default::default()
+            },
+            world_tf: FrameTransform {
+                parent_frame_id: "world".into(),
+                child_frame_id: "ned".into(),
+                translation: Some(v3([0.0; 3])),
+                rotation: Some(q4([1.0, 0.0, 0.0, 0.0])),
+                ..Default::default()
+            },
+            body_tf: FrameTransform {
+                parent_frame_id: "ned".into(),
+                child_frame_id: "body".into(),
+                ..Default::default()
+            },
+            command: msg::Command::default(),
+            states: msg::VehicleStates::default(),
         })
     }
 
@@ -561,44 +685,24 @@ impl McapWriter {
             msgs: Vec::with_capacity(BATCH),
         };
         let batch = std::mem::replace(&mut self.batch, next);
-        let tx = self
-            .tx
-            .as_ref()
-            .ok_or_else(|| err(&self.path, "finished"))?;
-        if tx.send(batch).is_err() {
-            // The writer thread stopped on an error: report it.
-            return Err(match self.join() {
-                Err(e) => e,
-                Ok(_) => err(&self.path, "the writer thread stopped"),
-            });
-        }
-        Ok(())
-    }
-
-    fn join(&mut self) -> Result<Mcap, OutputError> {
-        self.tx = None;
-        let h = self
-            .thread
-            .take()
-            .ok_or_else(|| err(&self.path, "the writer thread already failed"))?;
-        match h.join() {
-            Ok(r) => r.map_err(|x| err(&self.path, x)),
-            Err(_) => Err(err(&self.path, "the writer thread panicked")),
-        }
+        self.worker.send(batch)
     }
 
     fn put_switch(&mut self, t: f64, from: usize, to: usize) -> Result<(), OutputError> {
         let name = self.mode_names.get(to).copied().unwrap_or("none");
-        let b = &mut self.batch.bytes;
-        Json(b).raw(r#"{"t":"#).num(t).raw(r#","from":"#);
-        push_int(b, from as u64);
-        b.extend_from_slice(br#","to":"#);
-        push_int(b, to as u64);
-        b.extend_from_slice(br#","mode":"#);
-        // A user's mode name may hold any character: let serde escape it.
-        b.extend_from_slice(serde_json::Value::from(name).to_string().as_bytes());
-        b.push(b'}');
+        let m = msg::ModeSwitch {
+            t,
+            from: u32::try_from(from).unwrap_or(u32::MAX),
+            to: u32::try_from(to).unwrap_or(u32::MAX),
+            mode: name.to_string(),
+        };
+        self.encode(&m)?;
         self.put(6, nanos(t))
+    }
+
+    /// Appends one protobuf message to the batch buffer.
+    fn encode<M: foxglove::Encode>(&mut self, m: &M) -> Result<(), OutputError> {
+        enc(&mut self.batch.bytes, &self.path, m)
     }
 
     /// Writes what is queued, then the run's warnings (a `warnings`
@@ -614,7 +718,7 @@ impl McapWriter {
         if !self.batch.msgs.is_empty() {
             self.send()?;
         }
-        let mut w = self.join()?;
+        let mut w = self.worker.join()?;
         let path = self.path.clone();
         let e = |x: mcap::McapError| err(&path, x);
         if !warnings.is_empty() {
@@ -671,80 +775,56 @@ impl Sink for McapWriter {
         let q = quaternion_xyzw(&s.r);
         let qd = quaternion_xyzw(&s.rd);
         for (k, x, q) in [(0, s.x, q), (1, s.xd, qd)] {
-            Json(&mut self.batch.bytes)
-                .raw(r#"{"timestamp":"#)
-                .stamp(ns)
-                .raw(r#","frame_id":"ned","pose":{"position":"#)
-                .v3(x)
-                .raw(r#","orientation":"#)
-                .q4(q)
-                .raw("}}");
+            let p = &mut self.pose;
+            p.timestamp = stamp(ns);
+            p.pose = Some(Pose {
+                position: Some(v3(x)),
+                orientation: Some(q4(q)),
+            });
+            enc(&mut self.batch.bytes, &self.path, &self.pose)?;
             self.put(k, ns)?;
         }
         // world (z up) → ned: a half turn about x, (x, y, z, w). It never
         // changes, so it goes out at most every STATIC_TF_NS of simulated
         // time (Foxglove holds a transform until a newer one comes): at
         // 1 kHz sampling, a tenth of the log's bytes saved.
-        let world = ("world", "ned", [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
-        let body = ("ned", "body", s.x, q);
-        let tfs: &[_] = if ns >= self.next_static_ns {
+        if ns >= self.next_static_ns {
             self.next_static_ns = ns.saturating_add(STATIC_TF_NS);
-            &[world, body]
-        } else {
-            &[body]
-        };
-        for &(parent, child, tr, rot) in tfs {
-            Json(&mut self.batch.bytes)
-                .raw(r#"{"timestamp":"#)
-                .stamp(ns)
-                .raw(r#","parent_frame_id":""#)
-                .raw(parent)
-                .raw(r#"","child_frame_id":""#)
-                .raw(child)
-                .raw(r#"","translation":"#)
-                .v3(tr)
-                .raw(r#","rotation":"#)
-                .q4(rot)
-                .raw("}");
+            self.world_tf.timestamp = stamp(ns);
+            enc(&mut self.batch.bytes, &self.path, &self.world_tf)?;
             self.put(2, ns)?;
         }
+        self.body_tf.timestamp = stamp(ns);
+        self.body_tf.translation = Some(v3(s.x));
+        self.body_tf.rotation = Some(q4(q));
+        enc(&mut self.batch.bytes, &self.path, &self.body_tf)?;
+        self.put(2, ns)?;
         let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
-        Json(&mut self.batch.bytes)
-            .raw(r#"{"psi":"#)
-            .num(s.psi)
-            .raw(r#","ex":"#)
-            .num(s.ex)
-            .raw(r#","e_x":"#)
-            .v3(e_x)
-            .raw(r#","omega":"#)
-            .v3(s.omega)
-            .raw(r#","omega_d":"#)
-            .v3(s.omega_d)
-            .raw("}");
+        self.encode(&msg::Errors {
+            psi: s.psi,
+            ex: s.ex,
+            e_x: v3(e_x),
+            omega: v3(s.omega),
+            omega_d: v3(s.omega_d),
+        })?;
         self.put(3, ns)?;
-        Json(&mut self.batch.bytes)
-            .raw(r#"{"thrust":"#)
-            .num(s.thrust)
-            .raw(r#","moment":"#)
-            .v3(s.moment)
-            .raw(r#","rotor_thrusts":"#)
-            .array(&s.rotors)
-            .raw("}");
+        self.command.thrust = s.thrust;
+        self.command.moment = v3(s.moment);
+        self.command.rotor_thrusts.clear();
+        self.command.rotor_thrusts.extend_from_slice(&s.rotors);
+        enc(&mut self.batch.bytes, &self.path, &self.command)?;
         self.put(4, ns)?;
-        Json(&mut self.batch.bytes)
-            .raw(r#"{"e_I":"#)
-            .v3(s.e_att)
-            .raw(r#","e_i":"#)
-            .v3(s.e_pos)
-            .raw("}");
+        self.encode(&msg::Integrals {
+            attitude: v3(s.e_att),
+            position: v3(s.e_pos),
+        })?;
         self.put(5, ns)?;
         if !s.vehicle_states.is_empty() {
             // Only a vehicle with internal states gets their channel (the
             // writer thread creates it at the first message).
-            Json(&mut self.batch.bytes)
-                .raw(r#"{"states":"#)
-                .array(&s.vehicle_states)
-                .raw("}");
+            self.states.states.clear();
+            self.states.states.extend_from_slice(&s.vehicle_states);
+            enc(&mut self.batch.bytes, &self.path, &self.states)?;
             self.put(STATES_SLOT, ns)?;
         }
         Ok(())

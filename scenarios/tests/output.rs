@@ -11,8 +11,84 @@ fn tmpdir(name: &str) -> std::path::PathBuf {
     d
 }
 
+/// A protobuf field as it sits on the wire.
+#[derive(Debug)]
+enum Wire<'a> {
+    Varint(u64),
+    F64(f64),
+    Bytes(&'a [u8]),
+}
+
+/// The fields of a protobuf message, read straight from the wire format
+/// (varint keys; wire types 0, 1, 2): independent of the encoder.
+fn wire(mut b: &[u8]) -> Vec<(u32, Wire<'_>)> {
+    fn varint(b: &mut &[u8]) -> u64 {
+        let mut v = 0u64;
+        for shift in (0..64).step_by(7) {
+            let byte = b[0];
+            *b = &b[1..];
+            v |= u64::from(byte & 0x7f) << shift;
+            if byte < 0x80 {
+                break;
+            }
+        }
+        v
+    }
+    let mut out = Vec::new();
+    while !b.is_empty() {
+        let key = varint(&mut b);
+        let field = (key >> 3) as u32;
+        let w = match key & 7 {
+            0 => Wire::Varint(varint(&mut b)),
+            1 => {
+                let (x, rest) = b.split_at(8);
+                b = rest;
+                Wire::F64(f64::from_le_bytes(x.try_into().unwrap()))
+            }
+            2 => {
+                let n = varint(&mut b) as usize;
+                let (x, rest) = b.split_at(n);
+                b = rest;
+                Wire::Bytes(x)
+            }
+            t => panic!("wire type {t} not expected here"),
+        };
+        out.push((field, w));
+    }
+    out
+}
+
+/// Field `k` as a double (0 when absent: proto3 omits zeros).
+fn f64_field(fields: &[(u32, Wire<'_>)], k: u32) -> f64 {
+    fields
+        .iter()
+        .find_map(|(f, w)| match (f, w) {
+            (f, Wire::F64(x)) if *f == k => Some(*x),
+            _ => None,
+        })
+        .unwrap_or(0.0)
+}
+
+/// Field `k` as a nested message's fields.
+fn msg_field<'a>(fields: &[(u32, Wire<'a>)], k: u32) -> Vec<(u32, Wire<'a>)> {
+    fields
+        .iter()
+        .find_map(|(f, w)| match (f, w) {
+            (f, Wire::Bytes(x)) if *f == k => Some(wire(x)),
+            _ => None,
+        })
+        .unwrap_or_default()
+}
+
+fn vec3_field(fields: &[(u32, Wire<'_>)], k: u32) -> [f64; 3] {
+    let v = msg_field(fields, k);
+    [f64_field(&v, 1), f64_field(&v, 2), f64_field(&v, 3)]
+}
+
 #[test]
 fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
+    use foxglove::Decode;
+    use foxglove::messages::{FrameTransform, PoseInFrame};
     let scene = builtin::paper_flip();
     let out = run(&scene, RunOptions::default()).unwrap();
     let dir = tmpdir("mcap");
@@ -31,19 +107,39 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
     for msg in mcap::MessageStream::new(&bytes).unwrap() {
         let msg = msg.unwrap();
         let topic = msg.channel.topic.clone();
-        assert_eq!(msg.channel.message_encoding, "json");
+        assert_eq!(msg.channel.message_encoding, "protobuf");
         let schema = msg
             .channel
             .schema
             .as_ref()
             .expect("every channel has a schema");
-        assert_eq!(schema.encoding, "jsonschema");
+        assert_eq!(schema.encoding, "protobuf");
+        assert!(!schema.data.is_empty(), "{topic}: a FileDescriptorSet");
         schemas.insert(topic.clone(), schema.name.clone());
-        // Every message is valid JSON; log times never go backwards.
-        let v: serde_json::Value = serde_json::from_slice(&msg.data).unwrap();
-        assert!(v.is_object());
-        if v["child_frame_id"] == "ned" {
-            world_ned.push(msg.log_time);
+        // Foxglove's own types decode with Foxglove's decoder.
+        match topic.as_str() {
+            "/vehicle/pose" | "/desired/pose" => {
+                let p = PoseInFrame::decode(&msg.data[..]).unwrap();
+                assert_eq!(p.frame_id, "ned");
+                let ts = p.timestamp.unwrap();
+                assert_eq!(
+                    u64::from(ts.sec()) * 1_000_000_000 + u64::from(ts.nsec()),
+                    msg.log_time
+                );
+            }
+            "/tf" => {
+                let tf = FrameTransform::decode(&msg.data[..]).unwrap();
+                if tf.child_frame_id == "ned" {
+                    assert_eq!(tf.parent_frame_id, "world");
+                    world_ned.push(msg.log_time);
+                } else {
+                    assert_eq!(
+                        (tf.parent_frame_id.as_str(), tf.child_frame_id.as_str()),
+                        ("ned", "body")
+                    );
+                }
+            }
+            _ => assert!(!wire(&msg.data).is_empty() || topic == "/mode"),
         }
         let prev = last_time.insert(topic.clone(), msg.log_time).unwrap_or(0);
         assert!(msg.log_time >= prev, "{topic}: time went backwards");
@@ -55,10 +151,10 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
         ("/vehicle/pose", n, "foxglove.PoseInFrame"),
         ("/desired/pose", n, "foxglove.PoseInFrame"),
         ("/tf", n + world_ned.len(), "foxglove.FrameTransform"),
-        ("/errors", n, "gpid.Errors"),
-        ("/command", n, "gpid.Command"),
-        ("/integrals", n, "gpid.Integrals"),
-        ("/mode", 1 + out.switches.len(), "gpid.ModeSwitch"),
+        ("/errors", n, "errors.Errors"),
+        ("/command", n, "command.Command"),
+        ("/integrals", n, "integrals.Integrals"),
+        ("/mode", 1 + out.switches.len(), "modeswitch.ModeSwitch"),
     ];
     assert_eq!(expect.len(), TOPICS.len());
     for (topic, count, schema) in expect {
@@ -83,19 +179,81 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
         summary.stats.unwrap().message_count as usize,
         counts.values().sum::<usize>()
     );
-    // A pose message carries a unit quaternion matching the sample's R.
-    let first_pose = mcap::MessageStream::new(&bytes)
+    // At t = 1 s: the pose's quaternion is unit and is the sample's R; the
+    // errors, command and integrals carry the sample's values bit for bit
+    // (field numbers in declaration order).
+    let s = scenarios::metrics::at(&out.samples, 1.0).unwrap();
+    let at = |topic: &str| {
+        mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(|m| m.unwrap())
+            .find(|m| m.channel.topic == topic && m.log_time == 1_000_000_000)
+            .unwrap_or_else(|| panic!("{topic} at t = 1 s"))
+            .data
+            .into_owned()
+    };
+    let pose = PoseInFrame::decode(&at("/vehicle/pose")[..]).unwrap();
+    let q = pose.pose.unwrap().orientation.unwrap();
+    let norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+    assert!((norm - 1.0).abs() < 1e-12);
+    assert_eq!(
+        scenarios::output::quaternion_xyzw(&s.r),
+        [q.x, q.y, q.z, q.w]
+    );
+    let e = at("/errors");
+    let e = wire(&e);
+    assert_eq!(f64_field(&e, 1), s.psi);
+    assert_eq!(f64_field(&e, 2), s.ex);
+    assert_eq!(vec3_field(&e, 4), s.omega);
+    assert_eq!(vec3_field(&e, 5), s.omega_d);
+    let c = at("/command");
+    let c = wire(&c);
+    assert_eq!(f64_field(&c, 1), s.thrust);
+    assert_eq!(vec3_field(&c, 2), s.moment);
+    // Repeated doubles, packed or one field each: both are valid protobuf.
+    let rotors: Vec<f64> = c
+        .iter()
+        .flat_map(|(f, w)| match (f, w) {
+            (3, Wire::Bytes(b)) => b
+                .chunks(8)
+                .map(|x| f64::from_le_bytes(x.try_into().unwrap()))
+                .collect(),
+            (3, Wire::F64(x)) => vec![*x],
+            _ => vec![],
+        })
+        .collect();
+    assert_eq!(rotors, s.rotors);
+    let i = at("/integrals");
+    let i = wire(&i);
+    assert_eq!(vec3_field(&i, 1), s.e_att);
+    assert_eq!(vec3_field(&i, 2), s.e_pos);
+    // The switch at 0.4 s: from segment 0 (omitted: proto3 drops zeros)
+    // to 1, position mode.
+    let sw = mcap::MessageStream::new(&bytes)
         .unwrap()
         .map(|m| m.unwrap())
-        .find(|m| m.channel.topic == "/vehicle/pose" && m.log_time == 1_000_000_000)
-        .expect("pose at t = 1 s");
-    let v: serde_json::Value = serde_json::from_slice(&first_pose.data).unwrap();
-    let q = &v["pose"]["orientation"];
-    let norm: f64 = ["x", "y", "z", "w"]
-        .iter()
-        .map(|k| q[k].as_f64().unwrap().powi(2))
-        .sum();
-    assert!((norm - 1.0).abs() < 1e-12);
+        .filter(|m| m.channel.topic == "/mode")
+        .nth(1)
+        .expect("the switch");
+    let sw = wire(&sw.data);
+    assert!(
+        sw.iter()
+            .any(|(f, w)| *f == 3 && matches!(w, Wire::Varint(1))),
+        "{sw:?}"
+    );
+    assert_eq!(f64_field(&sw, 1), 0.4);
+    // The mode channel: the first mode at t = 0 with its name.
+    let m = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .find(|m| m.channel.topic == "/mode")
+        .unwrap();
+    let m = wire(&m.data);
+    assert!(
+        m.iter()
+            .any(|(f, w)| *f == 4 && matches!(w, Wire::Bytes(b) if *b == b"attitude")),
+        "{m:?}"
+    );
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -907,11 +907,12 @@ fn non_finite(r: &mut Report, _quick: bool, dir: &Path) -> Result<(), String> {
         .and_then(|s| s.stats)
         .map(|s| s.message_count);
     let (mut count, mut last_pose, mut poses) = (0u64, 0u64, 0u64);
-    let mut all_json = true;
+    let mut all_decode = true;
     for m in mcap::MessageStream::new(&bytes).map_err(|e| e.to_string())? {
         let m = m.map_err(|e| format!("{}: {e}", mcap_path.display()))?;
-        all_json &= serde_json::from_slice::<serde_json::Value>(&m.data).is_ok();
         if m.channel.topic == "/vehicle/pose" {
+            use foxglove::Decode;
+            all_decode &= foxglove::messages::PoseInFrame::decode(&m.data[..]).is_ok();
             poses += 1;
             last_pose = m.log_time;
         }
@@ -933,7 +934,7 @@ fn non_finite(r: &mut Report, _quick: bool, dir: &Path) -> Result<(), String> {
         ),
         summary == Some(count)
             && count == messages
-            && all_json
+            && all_decode
             && poses == n
             && last_pose == (t_last * 1e9).round() as u64
             && stopped_t == Some(t_last),

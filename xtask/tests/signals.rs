@@ -95,8 +95,10 @@ fn check_mcap(path: &Path, rows: usize, t_last: f64, reason: &str) {
     let mut last_pose = 0u64;
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
-        serde_json::from_slice::<serde_json::Value>(&m.data).unwrap();
         if m.channel.topic == "/vehicle/pose" {
+            use foxglove::Decode;
+            let p = foxglove::messages::PoseInFrame::decode(&m.data[..]).unwrap();
+            assert_eq!(p.frame_id, "ned");
             poses += 1;
             last_pose = m.log_time;
         }
