@@ -312,6 +312,10 @@ pub fn summary(scene: &Scene, out: &RunOutput) {
         out.switches.len(),
         out.events
     );
+    println!(
+        "  health over the samples and the end: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
+        out.max_orthogonality_error, out.psi_range.0, out.psi_range.1
+    );
     if !out.event_times.is_empty() {
         let ev: Vec<String> = out
             .event_times

@@ -145,6 +145,20 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
     };
+    // Samples and control instants are checkpoints the steps land on: a
+    // finer grid than dt shortens every step without saying so.
+    let tight = |every: f64| every > 0.0 && every < dt * (1.0 - 1e-9);
+    if tight(rec) {
+        out.warnings.push(format!(
+            "steps land on every sample: with samples every {rec} s the steps are {rec} s, not dt = {dt} s (sample less often to step at dt)"
+        ));
+    }
+    if tight(ctrl) {
+        out.warnings.push(format!(
+            "steps land on every control instant: at {} Hz the steps are at most {ctrl} s, not dt = {dt} s",
+            1.0 / ctrl
+        ));
+    }
     let start = Instant::now();
     let mut t = 0.0f64;
     if sampled {
