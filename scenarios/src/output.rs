@@ -274,7 +274,7 @@ impl CsvWriter {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let tmp = temp_path(path);
         let f = File::create(&tmp).map_err(|e| err(path, e))?;
-        let w = BufWriter::with_capacity(1 << 16, f);
+        let w = BufWriter::with_capacity(1 << 20, f);
         let worker = Worker::spawn(path, "csv-writer", move |rx| {
             write_csv_batches(w, rx).map_err(|e| e.to_string())
         })?;
@@ -610,7 +610,7 @@ impl McapWriter {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let tmp = temp_path(path);
         let e = |x: mcap::McapError| err(path, x);
-        let file = BufWriter::with_capacity(1 << 16, File::create(&tmp).map_err(|x| err(path, x))?);
+        let file = BufWriter::with_capacity(1 << 20, File::create(&tmp).map_err(|x| err(path, x))?);
         let mut w = mcap::WriteOptions::new()
             .compression(Some(mcap::Compression::Lz4))
             .profile("")

@@ -490,16 +490,24 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         summary(&scene, out);
     }
     let health_count = warnings.len() - result.as_ref().map_or(0, |o| o.warnings.len());
-    if let Some(w) = csv {
+    // Both files close at once: each ends with an fsync, which for a long
+    // run's gigabytes takes a second or more.
+    let (csv_done, mcap_done) = std::thread::scope(|sc| {
+        let c = csv.map(|w| sc.spawn(move || w.finish()));
+        let m = mcap.map(|w| w.finish(&warnings, stopped.as_ref()));
+        (
+            c.map(|h| h.join().expect("the CSV close does not panic")),
+            m,
+        )
+    });
+    if let Some(rows) = csv_done {
+        let rows = rows.map_err(|e| e.to_string())?;
         let p = a.csv.as_deref().expect("a CSV writer has a path");
-        let rows = w.finish().map_err(|e| e.to_string())?;
         println!("  wrote {} ({rows} rows)", p.display());
     }
-    if let Some(w) = mcap {
+    if let Some(n) = mcap_done {
+        let n = n.map_err(|e| e.to_string())?;
         let p = a.mcap.as_deref().expect("an MCAP writer has a path");
-        let n = w
-            .finish(&warnings, stopped.as_ref())
-            .map_err(|e| e.to_string())?;
         println!("  wrote {} ({n} messages)", p.display());
     }
     warnings.clear();
