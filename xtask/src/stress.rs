@@ -512,16 +512,16 @@ fn flip_error(out: &RunOutput, reference: &Sample) -> f64 {
 /// final error stays under 1 cm / 0.01 against dopri at 1e-12, and what
 /// happens past it: an error or a health warning is fine, a finite wrong
 /// answer with no warning fails.
-fn step_limit(r: &mut Report, quick: bool, _: &Path) -> Result<(), String> {
+fn step_limit(r: &mut Report, _quick: bool, _: &Path) -> Result<(), String> {
     let mut reference = builtin::paper_flip();
     reference.integrator.kind = "dopri".into();
     reference.integrator.tol = 1e-12;
     let reference = run(&reference)
         .map_err(|e| format!("paper-flip reference: {e}"))?
         .last;
-    // Doubling steps from 1/4 ms to 1/4 s (cheap: the flip lasts 4 s).
+    // Doubling steps from 1/4 ms to 1/4 s, the same with `--quick` (cheap:
+    // the flip lasts 4 s).
     let ladder: Vec<f64> = (0..11).map(|k| 2.5e-4 * f64::from(1u32 << k)).collect();
-    let _ = quick;
     const BOUND: f64 = 1e-2;
     for kind in STEPPERS {
         let mut limit = None;
