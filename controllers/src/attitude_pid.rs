@@ -118,7 +118,7 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
 /// `E = R_dᵀR` is formed once: `e_R` and `Ψ` are its skew part and trace,
 /// and the desired rates seen in the body frame are `Eᵀ Ω_d`, `Eᵀ Ω̇_d`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     gains: &AttitudeGains<B>,

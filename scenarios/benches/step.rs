@@ -52,8 +52,19 @@ macro_rules! hand_loop {
             const DX: $v = <$v>::new(-0.5, 0.2, 1.0);
             const DR: $v = <$v>::new(0.2, -0.1, -0.02);
 
+            /// The reference, read at run time (a hover point and heading
+            /// given to the simulator, not compile-time constants LLVM
+            /// could fold into the law).
+            pub struct Ref {
+                pub xd: [$v; 5],
+                pub b1d: [$v; 3],
+            }
+            pub const HOVER: Ref = Ref {
+                xd: [<$v>::ZERO; 5],
+                b1d: [<$v>::X, <$v>::ZERO, <$v>::ZERO],
+            };
             #[inline]
-            fn field(y: &X) -> X {
+            fn field(y: &X, rf: &Ref) -> X {
                 let i = c::In {
                     x: y.x,
                     v: y.v,
@@ -61,8 +72,8 @@ macro_rules! hand_loop {
                     w: y.w,
                     ei: y.ei,
                     eatt: y.eatt,
-                    xd: [<$v>::ZERO; 5],
-                    b1d: [<$v>::X, <$v>::ZERO, <$v>::ZERO],
+                    xd: rf.xd,
+                    b1d: rf.b1d,
                 };
                 let o = c::position(&i).expect("regular state");
                 let jw = <$v>::new(c::J[0] * y.w.x, c::J[1] * y.w.y, c::J[2] * y.w.z);
@@ -93,17 +104,22 @@ macro_rules! hand_loop {
                     ei: y.ei + k.ei * h,
                 }
             }
-            /// One classical RK4 step on the embedding, as `integrators::Rk4`.
-            pub fn step(y: &X, h: $s) -> X {
-                let k1 = field(y);
-                let k2 = field(&axpy(y, 0.5 * h, &k1));
-                let k3 = field(&axpy(y, 0.5 * h, &k2));
-                let k4 = field(&axpy(y, h, &k3));
+            /// One classical RK4 step on the embedding, as `integrators::Rk4`,
+            /// and whether a component of e_i crossed ±σ in it (the generic
+            /// loop checks for sat′ crossings after every step too).
+            pub fn step(y: &X, h: $s, rf: &Ref) -> (X, bool) {
+                let k1 = field(y, rf);
+                let k2 = field(&axpy(y, 0.5 * h, &k1), rf);
+                let k3 = field(&axpy(y, 0.5 * h, &k2), rf);
+                let k4 = field(&axpy(y, h, &k3), rf);
                 let (a, b) = (h / 6.0, h / 3.0);
                 let mut n = axpy(y, a, &k1);
                 n = axpy(&n, b, &k2);
                 n = axpy(&n, b, &k3);
-                axpy(&n, a, &k4)
+                n = axpy(&n, a, &k4);
+                let inside = |e: $v| e.abs().cmple(<$v>::splat(c::SIG)).bitmask();
+                let crossed = inside(y.ei) != inside(n.ei);
+                (n, crossed)
             }
             pub fn start() -> X {
                 X {
@@ -143,11 +159,19 @@ fn bench(c: &mut Criterion) {
     g.finish();
     // The twin flies the generic loop's trajectory (same equations, same
     // RK4; they differ by rounding order only).
-    let generic = run(&pos, RunOptions::default()).expect("run").last;
+    let generic_run = run(&pos, RunOptions::default()).expect("run");
+    let generic = generic_run.last;
     let mut y = loop64::start();
+    let mut crossings = 0;
     for _ in 0..1000 {
-        y = loop64::step(&y, 1e-3);
+        let (n, crossed) = loop64::step(&y, 1e-3, &loop64::HOVER);
+        y = n;
+        crossings += usize::from(crossed);
     }
+    assert_eq!(
+        crossings, generic_run.events,
+        "the hand-written loop sees other sat′ crossings"
+    );
     let dx = (0..3)
         .map(|k| (y.x[k] - generic.x[k]).abs())
         .fold(0.0, f64::max);
@@ -173,20 +197,28 @@ fn bench(c: &mut Criterion) {
         if kind == "rk4" {
             g.bench_function("glam-f64-hand", |b| {
                 b.iter(|| {
+                    let rf = black_box(&loop64::HOVER);
                     let mut y = loop64::start();
+                    let mut crossings = 0u32;
                     for _ in 0..1000 {
-                        y = loop64::step(black_box(&y), 1e-3);
+                        let (n, crossed) = loop64::step(black_box(&y), 1e-3, rf);
+                        y = n;
+                        crossings += u32::from(crossed);
                     }
-                    black_box(y.x)
+                    black_box((y.x, crossings))
                 })
             });
             g.bench_function("glam-f32-hand", |b| {
                 b.iter(|| {
+                    let rf = black_box(&loop32::HOVER);
                     let mut y = loop32::start();
+                    let mut crossings = 0u32;
                     for _ in 0..1000 {
-                        y = loop32::step(black_box(&y), 1e-3);
+                        let (n, crossed) = loop32::step(black_box(&y), 1e-3, rf);
+                        y = n;
+                        crossings += u32::from(crossed);
                     }
-                    black_box(y.x)
+                    black_box((y.x, crossings))
                 })
             });
         }

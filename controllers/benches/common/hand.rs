@@ -28,7 +28,7 @@ macro_rules! hand {
             const KV: $s = 4.22;
             const KI: $s = 1.28;
             const C1: $s = 3.6;
-            const SIG: $s = 1.0;
+            pub const SIG: $s = 1.0;
             const KR: $s = 0.65;
             const KW: $s = 0.11;
             const KIA: $s = 0.06;

@@ -3,7 +3,7 @@
 //! active, switching into the next).
 
 use controllers::{ModeOutput, VehicleState};
-use dynamics::{Vehicle, Wrench, loads_applied};
+use dynamics::{Vehicle, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
 use lie::{Backend, Real, S, So3Mat};
@@ -202,8 +202,7 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
-        let applied = self.vehicle.applied_wrench(&w, states);
-        let l = loads_applied(self.vehicle, t, &y.body, applied);
+        let l = self.vehicle.total_loads(t, &y.body, &w, states);
         if nv > 0 {
             self.vehicle
                 .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);
