@@ -135,11 +135,17 @@ pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     let w = e.inverse_act(omega_d);
     let wd = e.inverse_act(omega_d_dot);
     let e_w = omega - w;
-    let j = params.inertia;
+    // A principal-axes inertia (every shipped vehicle) takes 3 products
+    // per J·v instead of 9, with the same values: the skipped terms are
+    // exact zeros.
+    let (jw, jwd) = match lie::ops::diagonal::<B>(params.inertia) {
+        Some(d) => (cmul::<B>(d, w), cmul::<B>(d, wd)),
+        None => (params.inertia * w, params.inertia * wd),
+    };
     let moment =
         -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
-            + B::cross(w, j * w)
-            + j * wd;
+            + B::cross(w, jw)
+            + jwd;
     AttitudeOutput {
         moment,
         e_r,
@@ -169,11 +175,17 @@ pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
     let rel = r.inverse() * rd;
     let w = rel.act(omega_d);
     let wd = rel.act(omega_d_dot);
-    let j = params.inertia;
+    // A principal-axes inertia (every shipped vehicle) takes 3 products
+    // per J·v instead of 9, with the same values: the skipped terms are
+    // exact zeros.
+    let (jw, jwd) = match lie::ops::diagonal::<B>(params.inertia) {
+        Some(d) => (cmul::<B>(d, w), cmul::<B>(d, wd)),
+        None => (params.inertia * w, params.inertia * wd),
+    };
     let moment =
         -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
-            + B::cross(w, j * w)
-            + j * wd;
+            + B::cross(w, jw)
+            + jwd;
     AttitudeOutput {
         moment,
         e_r,

@@ -1,7 +1,8 @@
 //! The two helpers controllers use to avoid repeated products:
 //! `errors_to_identity` of `R_dᵀR` equals `(e_R(R, R_d), Ψ(R, R_d))`, and
 //! `body_axis(k)` equals `R e_k`, for both representations on all four
-//! (backend, scalar) pairs.
+//! (backend, scalar) pairs; `ops::diagonal` finds a principal-axes
+//! inertia and its element-wise product equals the matrix product exactly.
 
 mod common;
 
@@ -41,4 +42,37 @@ fn helpers_agree_with_the_definitions() {
     check::<NalgebraF32, So3Quat<NalgebraF32>>("nalgebra-f32 quaternion");
     check::<GlamF32, So3Mat<GlamF32>>("glam-f32 matrix");
     check::<GlamF32, So3Quat<GlamF32>>("glam-f32 quaternion");
+}
+
+fn diagonal_case<B: Backend>(label: &str) {
+    use lie::ops::{diag, diagonal, from_elems};
+    let mut rng = Rng::new(11);
+    let j = diag::<B>(s::<B>(0.43e-2), s::<B>(0.43e-2), s::<B>(1.02e-2));
+    let d = diagonal::<B>(j).expect("a diagonal matrix has a diagonal");
+    for _ in 0..200 {
+        let v = vb::<B>(rng.rotvec(30.0));
+        let (a, b) = (B::vec3_to_array(j * v), B::vec3_to_array(d));
+        let w = B::vec3_to_array(v);
+        // Bit for bit: the matrix product only adds exact zeros.
+        for k in 0..3 {
+            assert_eq!(a[k], b[k] * w[k], "{label}: component {k}");
+        }
+    }
+    // Any non-zero off-diagonal element, however small, is not diagonal.
+    for (r, c) in [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)] {
+        let mut e = lie::ops::elems::<B>(j);
+        e[r][c] = s::<B>(1e-30);
+        assert!(
+            diagonal::<B>(from_elems::<B>(e)).is_none(),
+            "{label}: ({r}, {c})"
+        );
+    }
+}
+
+#[test]
+fn diagonal_matrices_are_recognised_and_multiply_exactly() {
+    diagonal_case::<NalgebraF64>("nalgebra-f64");
+    diagonal_case::<GlamF64>("glam-f64");
+    diagonal_case::<NalgebraF32>("nalgebra-f32");
+    diagonal_case::<GlamF32>("glam-f32");
 }

@@ -7,6 +7,9 @@
 //!   (continuous control, event location on) for every stepper on the four
 //!   (backend, scalar) pairs, through the scene front end and the generic
 //!   loop;
+//! - `flip-rk4-1ms/<pair>`: the whole paper-flip (4 s, RK4 at h = 1 ms, a
+//!   sample kept every 0.05 s) through the public `run`, after printing
+//!   its final-state error against Dormand–Prince at 1e-12;
 //! - `step-rk4/<glam-f32|glam-f64>-hand`: the same closed loop and RK4
 //!   written by hand on glam (the controller of
 //!   `controllers/benches/common/hand.rs`, the dynamics and the RK4
@@ -22,6 +25,13 @@ use std::hint::black_box;
 
 #[path = "../../controllers/benches/common/hand.rs"]
 mod hand_twin;
+
+/// Largest |Δx| (m) and |ΔR| (matrix elements) between two final samples.
+fn final_error(a: &scenarios::Sample, b: &scenarios::Sample) -> f64 {
+    let dx = (0..3).map(|k| (a.x[k] - b.x[k]).abs());
+    let dr = (0..9).map(|k| (a.r[k / 3][k % 3] - b.r[k / 3][k % 3]).abs());
+    dx.chain(dr).fold(0.0, f64::max)
+}
 
 fn quiet(s: &Scene) {
     let out = run(
@@ -179,6 +189,46 @@ fn bench(c: &mut Criterion) {
         dx < 1e-9,
         "hand-written loop differs from the generic one by {dx}"
     );
+    // The whole-run figure: paper-flip (4 s) by RK4 at h = 1 ms,
+    // a sample kept every 0.05 s, on every pair; its final-state error
+    // against Dormand–Prince at 1e-12 in f64 is printed first (and must
+    // stay at the 1.1e-8 the regression suite knows, to rounding).
+    let mut flip = builtin::paper_flip();
+    flip.integrator.kind = "rk4".into();
+    flip.integrator.dt = 1e-3;
+    flip.record.sample = 0.05;
+    let mut exact = flip.clone();
+    exact.integrator.kind = "dopri".into();
+    exact.integrator.tol = 1e-12;
+    let truth = run(&exact, RunOptions::default()).expect("dopri run").last;
+    let mut g = c.benchmark_group("flip-rk4-1ms");
+    for (scalar, backend, name) in [
+        (Scalar::F32, BackendKind::Nalgebra, "nalgebra-f32"),
+        (Scalar::F64, BackendKind::Nalgebra, "nalgebra-f64"),
+        (Scalar::F32, BackendKind::Glam, "glam-f32"),
+        (Scalar::F64, BackendKind::Glam, "glam-f64"),
+    ] {
+        let mut s = flip.clone();
+        s.scalar = scalar;
+        s.backend = backend;
+        let out = run(&s, RunOptions::default()).expect("flip run");
+        let err = final_error(&out.last, &truth);
+        eprintln!(
+            "paper-flip rk4 h = 1 ms, {name}: {} samples, final error {err:.2e} (vs dopri 1e-12 f64)",
+            out.samples.len()
+        );
+        // 1.1e-8 is RK4's own error at 1 ms (f64); f32 is limited by
+        // its ε (the stress suite's f32-vs-f64 bound is 1e-3).
+        let bound = if scalar == Scalar::F64 { 2e-8 } else { 1e-3 };
+        assert!(err < bound, "{name}: flip error {err:e} above {bound:e}");
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let out = run(&s, RunOptions::default()).expect("flip run");
+                black_box(out.samples.len())
+            })
+        });
+    }
+    g.finish();
     // Every stepper on every pair: 1000 steps of 1 ms (dopri: 1000 calls).
     for kind in ["rk4", "rk4-projected", "rkmk4", "lgvi", "euler", "dopri"] {
         let mut g = c.benchmark_group(format!("step-{kind}"));

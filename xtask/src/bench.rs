@@ -9,7 +9,9 @@
 //!    `estimates.json` files and writes `target/bench/summary.csv`:
 //!    `name,backend,scalar,median_ns,baseline_ns,ratio`, the baseline being
 //!    the hand-written twin of the same group and pair (empty where there
-//!    is none). Closed-loop rows are per step (the 1000-step median / 1000).
+//!    is none). Closed-loop rows are per step (the 1000-step median / 1000);
+//!    the `paper-flip rk4 1 ms whole run` rows are the whole 4 s flight
+//!    with a sample every 0.05 s (the bench prints its final error first).
 //! 2. Sweeps every stepper over its steps (dopri over tolerances) on
 //!    `paper-flip` and `free-rigid-body` for the four pairs
 //!    (`xtask/src/sweep.rs`), writing `target/bench/work_precision.csv` and
@@ -112,7 +114,9 @@ fn parse(id: &str) -> Option<(String, String, bool)> {
 fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
     let mut raw = Vec::new();
     crate::collect(root, &mut raw)?;
-    let wanted = |g: &str| g == "attitude" || g == "position" || g.starts_with("step-");
+    let wanted = |g: &str| {
+        g == "attitude" || g == "position" || g.starts_with("step-") || g == "flip-rk4-1ms"
+    };
     // (group, pair) -> (generic, hand)
     let mut t: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
     for (id, median) in raw {
@@ -141,6 +145,8 @@ fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
         let (backend, scalar) = pair.split_once('-').unwrap_or((&pair, ""));
         let name = if let Some(k) = group.strip_prefix("step-") {
             format!("closed-loop {k} step")
+        } else if group == "flip-rk4-1ms" {
+            "paper-flip rk4 1 ms whole run".to_string()
         } else {
             format!("{group} update")
         };
