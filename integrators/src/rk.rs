@@ -80,33 +80,40 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
     h: S<B>,
     terms: [(S<B>, &Deriv<B, N>); K],
 ) -> State<B, N> {
-    let mut out = *y;
+    // Every field is written once (no copy of `y` to overwrite).
     let mut dr = terms[0].1.r * (terms[0].0 * h);
     let mut dw = terms[0].1.w * (terms[0].0 * h);
     for (c, k) in &terms[1..] {
         dr = dr + k.r * (*c * h);
         dw = dw + k.w * (*c * h);
     }
-    out.body.r = y.body.r + dr;
-    out.body.omega = y.body.omega + dw;
-    if body.translates {
+    let (x, v) = if body.translates {
         let mut dx = terms[0].1.x * (terms[0].0 * h);
         let mut dv = terms[0].1.v * (terms[0].0 * h);
         for (c, k) in &terms[1..] {
             dx = dx + k.x * (*c * h);
             dv = dv + k.v * (*c * h);
         }
-        out.body.x = y.body.x + dx;
-        out.body.v = y.body.v + dv;
-    }
-    for i in 0..N {
+        (y.body.x + dx, y.body.v + dv)
+    } else {
+        (y.body.x, y.body.v)
+    };
+    let extra = core::array::from_fn(|i| {
         let mut de = S::<B>::zero();
         for (c, k) in &terms {
             de += *c * k.e[i];
         }
-        out.extra[i] = y.extra[i] + h * de;
+        y.extra[i] + h * de
+    });
+    State {
+        body: dynamics::RigidBodyState {
+            r: y.body.r + dr,
+            x,
+            v,
+            omega: y.body.omega + dw,
+        },
+        extra,
     }
-    out
 }
 
 pub(crate) fn check_h<B: Backend>(h: S<B>) -> Result<(), StepError> {
