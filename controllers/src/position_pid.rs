@@ -405,31 +405,38 @@ fn position_core<B: Backend, R: Rotation<B>>(
         (re3, z, z, s(0.0), s(0.0))
     };
 
-    // b2c = c/‖c‖, c = b3c × b1d; b1d ∥ b3c guarded.
+    // b2c = c/‖c‖, c = b3c × b1d; b1d ∥ b3c guarded. In the regular case
+    // c = (u × b1d)/‖u‖, so b2c = (u × b1d)/‖u × b1d‖ and 1/‖c‖ =
+    // ‖u‖/‖u × b1d‖: the two square roots and reciprocals do not wait on
+    // each other (they are the longest chain of the law).
     let mut b1d = (reference.b1d, reference.b1d_dot, reference.b1d_ddot);
-    let c = B::cross(b3, b1d.0);
     let c_floor = S::<B>::epsilon().sqrt() * (one + norm::<B>(reference.b1d));
-    let mut nc = norm::<B>(c);
-    if nc <= c_floor {
-        degeneracy.heading_undefined = true;
-        let alt = if norm::<B>(B::cross(b3, rb1)) > c_floor {
-            rb1
-        } else {
-            rb2
-        };
-        b1d = (alt, z, z);
-    }
-    let c = if degeneracy.heading_undefined {
-        let c = B::cross(b3, b1d.0);
-        nc = norm::<B>(c);
-        c
+    let cu = B::cross(u, b1d.0);
+    let ncu = norm::<B>(cu);
+    let (b2, invc) = if !degeneracy.thrust_direction_undefined && ncu > c_floor * n {
+        let inv_cu = one / ncu;
+        (cu * inv_cu, n * inv_cu)
     } else {
-        c
+        // b3c is R e3 (no thrust direction) or nearly ∥ b1d: c from b3c
+        // itself, with a body axis for b1d when it is degenerate.
+        let mut c = B::cross(b3, b1d.0);
+        let mut nc = norm::<B>(c);
+        if nc <= c_floor {
+            degeneracy.heading_undefined = true;
+            let alt = if norm::<B>(B::cross(b3, rb1)) > c_floor {
+                rb1
+            } else {
+                rb2
+            };
+            b1d = (alt, z, z);
+            c = B::cross(b3, b1d.0);
+            nc = norm::<B>(c);
+        }
+        let invc = one / nc;
+        (c * invc, invc)
     };
     let cd = B::cross(b3d, b1d.0) + B::cross(b3, b1d.1);
     let cdd = B::cross(b3dd, b1d.0) + B::cross(b3d, b1d.1) * two + B::cross(b3, b1d.2);
-    let invc = one / nc;
-    let b2 = c * invc;
     let qc = B::dot(b2, cd);
     let b1 = B::cross(b2, b3);
 

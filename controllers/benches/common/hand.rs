@@ -124,16 +124,19 @@ macro_rules! hand {
                 let b3d = (ud - q * b3) * inv;
                 let b3dd = (udd - (2.0 * q) * b3d - (b3d.dot(ud) + b3.dot(udd)) * b3) * inv;
                 let [b1d, b1dd, b1ddd] = i.b1d;
-                let c = b3.cross(b1d);
-                let nc = c.length();
-                let heading_defined = nc > <$s>::EPSILON.sqrt() * (1.0 + b1d.length());
+                // b2 = (u × b1d)/‖u × b1d‖ and 1/‖b3 × b1d‖ = ‖u‖/‖u × b1d‖:
+                // the two square roots and reciprocals run side by side.
+                let cu = u.cross(b1d);
+                let ncu = cu.length();
+                let heading_defined = ncu > <$s>::EPSILON.sqrt() * (1.0 + b1d.length()) * n;
                 if !heading_defined {
                     return None;
                 }
                 let cd = b3d.cross(b1d) + b3.cross(b1dd);
                 let cdd = b3dd.cross(b1d) + 2.0 * b3d.cross(b1dd) + b3.cross(b1ddd);
-                let invc = 1.0 / nc;
-                let b2 = c * invc;
+                let inv_cu = 1.0 / ncu;
+                let b2 = cu * inv_cu;
+                let invc = n * inv_cu;
                 let qc = b2.dot(cd);
                 let b1 = b2.cross(b3);
                 let w1 = b3.dot(cd) * invc;
