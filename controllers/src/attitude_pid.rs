@@ -175,17 +175,11 @@ pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
     let rel = r.inverse() * rd;
     let w = rel.act(omega_d);
     let wd = rel.act(omega_d_dot);
-    // A principal-axes inertia (every shipped vehicle) takes 3 products
-    // per J·v instead of 9, with the same values: the skipped terms are
-    // exact zeros.
-    let (jw, jwd) = match lie::ops::diagonal::<B>(params.inertia) {
-        Some(d) => (cmul::<B>(d, w), cmul::<B>(d, wd)),
-        None => (params.inertia * w, params.inertia * wd),
-    };
+    let j = params.inertia;
     let moment =
         -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
-            + B::cross(w, jw)
-            + jwd;
+            + B::cross(w, j * w)
+            + j * wd;
     AttitudeOutput {
         moment,
         e_r,
@@ -239,11 +233,21 @@ mod tests {
                 }
             }
         }
-        // E = R_dᵀR once against the three generic products, f64.
+        // E = R_dᵀR once against the three generic products, f64; the
+        // paper's principal-axes inertia (element-wise products) and one
+        // with products of inertia (the full matrix).
         type D = NalgebraF64;
-        let (p, g) = (RigidBodyParams::<D>::paper(), AttitudeGains::<D>::paper());
+        let g = AttitudeGains::<D>::paper();
+        let diagonal = RigidBodyParams::<D>::paper();
+        let mut full = diagonal;
+        full.inertia = lie::ops::from_elems::<D>([
+            [0.43e-2, 1e-4, -2e-4],
+            [1e-4, 0.43e-2, 3e-4],
+            [-2e-4, 3e-4, 1.02e-2],
+        ]);
         let mut worst = 0.0f64;
-        for k in 0..200 {
+        for k in 0..400 {
+            let p = if k % 2 == 0 { diagonal } else { full };
             let t = k as f64 * 0.37;
             let vv = |a: f64| {
                 D::vec3(
