@@ -264,7 +264,7 @@ pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
 /// `e_i`, whose saturation would drop a NaN, reaches `f` or `M`; a test
 /// injects NaN and ±∞ into each), and then named by checking the inputs.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn position_control<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
@@ -296,30 +296,45 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
     // A fallback replaces derivatives by zeros and could drop a NaN in
     // them: then every input is checked, as it is whenever an output is
     // not finite.
-    if degenerate || !(out.thrust.is_finite() && is_finite::<B>(out.moment)) {
-        for (v, field) in [
-            (state.x, "state.x"),
-            (state.v, "state.v"),
-            (state.omega, "state.omega"),
-            (e_i_att, "e_I (attitude integral)"),
-            (reference.x, "reference.x"),
-            (reference.v, "reference.v"),
-            (reference.a, "reference.a"),
-            (reference.jerk, "reference.jerk"),
-            (reference.snap, "reference.snap"),
-            (reference.b1d, "reference.b1d"),
-            (reference.b1d_dot, "reference.b1d_dot"),
-            (reference.b1d_ddot, "reference.b1d_ddot"),
-        ] {
-            if !is_finite::<B>(v) {
-                return Err(ControlError::NonFinite { field });
-            }
+    let finite = out.thrust.is_finite() && is_finite::<B>(out.moment);
+    if degenerate || !finite {
+        if let Some(field) = non_finite_input(state, e_i_att, reference) {
+            return Err(ControlError::NonFinite { field });
         }
-        if !(out.thrust.is_finite() && is_finite::<B>(out.moment)) {
+        if !finite {
             return Err(ControlError::NonFinite { field: "state.r" });
         }
     }
     Ok(out)
+}
+
+/// The name of the first non-finite input of [`position_control`]. Out of
+/// line and cold: it runs only once an output is known to be bad, and
+/// keeping it out of the law's body leaves the law's registers alone.
+#[cold]
+#[inline(never)]
+fn non_finite_input<B: Backend, R: Rotation<B>>(
+    state: &VehicleState<B, R>,
+    e_i_att: V3<B>,
+    reference: &PositionReference<B>,
+) -> Option<&'static str> {
+    [
+        (state.x, "state.x"),
+        (state.v, "state.v"),
+        (state.omega, "state.omega"),
+        (e_i_att, "e_I (attitude integral)"),
+        (reference.x, "reference.x"),
+        (reference.v, "reference.v"),
+        (reference.a, "reference.a"),
+        (reference.jerk, "reference.jerk"),
+        (reference.snap, "reference.snap"),
+        (reference.b1d, "reference.b1d"),
+        (reference.b1d_dot, "reference.b1d_dot"),
+        (reference.b1d_ddot, "reference.b1d_ddot"),
+    ]
+    .into_iter()
+    .find(|(v, _)| !is_finite::<B>(*v))
+    .map(|(_, f)| f)
 }
 
 /// [`position_control`] without the input checks.
