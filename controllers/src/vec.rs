@@ -18,7 +18,9 @@ pub(crate) fn norm<B: Backend>(a: V3<B>) -> S<B> {
 
 #[inline(always)]
 pub(crate) fn is_finite<B: Backend>(a: V3<B>) -> bool {
-    B::vec3_to_array(a).iter().all(|x| x.is_finite())
+    // Branch-free (`&`, not `all`): the law checks its output every call.
+    let [x, y, z] = B::vec3_to_array(a);
+    x.is_finite() & y.is_finite() & z.is_finite()
 }
 
 #[inline(always)]

@@ -24,6 +24,20 @@ impl<B: Backend, const N: usize> State<B, N> {
     }
 
     pub(crate) fn non_finite_field(&self) -> Option<&'static str> {
+        // One branch-free test on the way through every step; the fields
+        // are told apart only when it fails.
+        let b = &self.body;
+        let finite = ops::is_finite_mat::<B>(b.r)
+            & ops::is_finite_vec::<B>(b.x)
+            & ops::is_finite_vec::<B>(b.v)
+            & ops::is_finite_vec::<B>(b.omega)
+            & self
+                .extra
+                .iter()
+                .fold(true, |ok, e| ok & lie::num_traits::Float::is_finite(*e));
+        if finite {
+            return None;
+        }
         if let Some(f) = self.body.non_finite_field() {
             return Some(f);
         }
@@ -53,12 +67,13 @@ pub struct Load<B: Backend, const N: usize> {
 
 impl<B: Backend, const N: usize> Load<B, N> {
     pub(crate) fn is_finite(&self) -> bool {
+        // Branch-free (`&`): this runs at every evaluation.
         ops::is_finite_vec::<B>(self.force)
-            && ops::is_finite_vec::<B>(self.moment)
-            && self
+            & ops::is_finite_vec::<B>(self.moment)
+            & self
                 .extra_rate
                 .iter()
-                .all(|e| lie::num_traits::Float::is_finite(*e))
+                .fold(true, |ok, e| ok & lie::num_traits::Float::is_finite(*e))
     }
 }
 

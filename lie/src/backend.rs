@@ -162,13 +162,15 @@ pub mod ops {
     #[inline(always)]
     pub fn is_finite_vec<B: Backend>(v: V3<B>) -> bool {
         let a = B::vec3_to_array(v);
-        a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
+        // `&`, not `&&`: three compares combined without branches (the
+        // checks run on every load evaluation of a simulation).
+        a[0].is_finite() & a[1].is_finite() & a[2].is_finite()
     }
     /// True when no element is NaN or ±∞.
     #[inline(always)]
     pub fn is_finite_mat<B: Backend>(m: M3<B>) -> bool {
         let [c0, c1, c2] = B::mat3_cols(m);
-        is_finite_vec::<B>(c0) && is_finite_vec::<B>(c1) && is_finite_vec::<B>(c2)
+        is_finite_vec::<B>(c0) & is_finite_vec::<B>(c1) & is_finite_vec::<B>(c2)
     }
     /// Determinant.
     #[inline(always)]
