@@ -10,6 +10,10 @@
 //! - `flip-rk4-1ms/<pair>`: the whole paper-flip (4 s, RK4 at h = 1 ms, a
 //!   sample kept every 0.05 s) through the public `run`, after printing
 //!   its final-state error against Dormand–Prince at 1e-12;
+//! - `step-rk4/<glam-f32|glam-f64>-direct`: the same closed loop from the
+//!   public pieces alone (RK4, `PositionMode`, `Hexarotor`, concrete types,
+//!   no scene, plan, events or recording): full − direct is the cost of
+//!   the `scenarios` layer, direct − hand that of the generic maths;
 //! - `step-rk4/<glam-f32|glam-f64>-hand`: the same closed loop and RK4
 //!   written by hand on glam (the controller of
 //!   `controllers/benches/common/hand.rs`, the dynamics and the RK4
@@ -147,6 +151,103 @@ macro_rules! hand_loop {
 hand_loop!(loop64, hand64, f64, glam::DVec3, glam::DMat3);
 hand_loop!(loop32, hand32, f32, glam::Vec3, glam::Mat3);
 
+/// The same closed loop built from the public pieces alone: `integrators`'
+/// RK4 stepping a `System` that calls `controllers::PositionMode` and
+/// `dynamics::Hexarotor` directly (both concrete types, no scene, plan,
+/// event checks or recording). Beside the full loop and the hand twin it
+/// splits the abstraction's cost into the `scenarios` layer (full −
+/// direct) and the generic maths itself (direct − hand).
+mod direct {
+    use controllers::{
+        AccelerationModel, AttitudeGains, HoldPosition, Mode, PositionGains, PositionMode,
+        PositionReference, RigidBodyParams, VehicleState,
+    };
+    use dynamics::{Hexarotor, Quadrotor, RigidBodyState, Vehicle, Wrench};
+    use integrators::{Integrator, Load, Rk4, State, System};
+    use lie::num_traits::Float;
+    use lie::{Backend, M3, Real, S, So3Mat};
+
+    pub struct Loop<B: Backend> {
+        vehicle: Hexarotor<B>,
+        mode: PositionMode<B, HoldPosition<B>>,
+        inertia_inv: M3<B>,
+    }
+
+    impl<B: Backend> Loop<B> {
+        /// Hover-disturbed's loop: the paper's hexarotor under Δ_x, Δ_R,
+        /// the paper's gains, holding `reference`.
+        pub fn new(reference: PositionReference<B>) -> Self {
+            let vehicle = Hexarotor::<B>::paper()
+                .with_disturbance(Quadrotor::<B>::paper_disturbance())
+                .expect("paper disturbance");
+            let inertia_inv = lie::ops::inverse::<B>(vehicle.inertia()).expect("inertia");
+            let mode = PositionMode::new(
+                RigidBodyParams::paper(),
+                PositionGains::paper(),
+                AttitudeGains::paper(),
+                AccelerationModel::Nominal,
+                HoldPosition(reference),
+            );
+            Self {
+                vehicle,
+                mode,
+                inertia_inv,
+            }
+        }
+
+        /// `steps` RK4 steps of `h` from rest.
+        pub fn run(&mut self, steps: usize, h: f64) -> State<B, 6> {
+            let mut y = State::new(RigidBodyState::at_rest());
+            let mut rk4 = Rk4::default();
+            for i in 0..steps {
+                let t = S::<B>::lit(i as f64 * h);
+                rk4.step(self, t, S::<B>::lit(h), &mut y).expect("regular step");
+            }
+            y
+        }
+    }
+
+    impl<B: Backend> System<B, 6> for Loop<B> {
+        fn mass(&self) -> S<B> {
+            self.vehicle.mass()
+        }
+        fn inertia(&self) -> M3<B> {
+            self.vehicle.inertia()
+        }
+        fn inertia_inv(&self) -> M3<B> {
+            self.inertia_inv
+        }
+        fn load(&mut self, t: S<B>, y: &State<B, 6>) -> Load<B, 6> {
+            let mut rates = [S::<B>::lit(0.0); 6];
+            let st = VehicleState {
+                x: y.body.x,
+                v: y.body.v,
+                r: So3Mat::from_matrix_unchecked(y.body.r),
+                omega: y.body.omega,
+            };
+            let nan = S::<B>::nan();
+            let Ok(out) = self.mode.command(t, &st, &y.extra, &mut rates) else {
+                // The step then reports a non-finite load.
+                return Load {
+                    force: B::vec3(nan, nan, nan),
+                    moment: B::vec3(nan, nan, nan),
+                    extra_rate: rates,
+                };
+            };
+            let w = Wrench {
+                thrust: out.thrust,
+                moment: out.moment,
+            };
+            let l = self.vehicle.total_loads(t, &y.body, &w, &[]);
+            Load {
+                force: l.force,
+                moment: l.moment,
+                extra_rate: rates,
+            }
+        }
+    }
+}
+
 fn bench(c: &mut Criterion) {
     let mut att = builtin::paper_attitude_experiment();
     att.duration = 1.0;
@@ -188,6 +289,15 @@ fn bench(c: &mut Criterion) {
     assert!(
         dx < 1e-9,
         "hand-written loop differs from the generic one by {dx}"
+    );
+    let hover = controllers::PositionReference::hold(glam::DVec3::ZERO, glam::DVec3::X);
+    let yd = direct::Loop::<lie::GlamF64>::new(hover).run(1000, 1e-3);
+    let dd = (0..3)
+        .map(|k| (yd.body.x[k] - generic.x[k]).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        dd < 1e-9,
+        "the direct loop differs from the generic one by {dd}"
     );
     // The whole-run figure: paper-flip (4 s) by RK4 at h = 1 ms,
     // a sample kept every 0.05 s, on every pair; its final-state error
@@ -256,6 +366,26 @@ fn bench(c: &mut Criterion) {
                         crossings += u32::from(crossed);
                     }
                     black_box((y.x, crossings))
+                })
+            });
+            g.bench_function("glam-f64-direct", |b| {
+                b.iter(|| {
+                    let rf = *black_box(&controllers::PositionReference::hold(
+                        glam::DVec3::ZERO,
+                        glam::DVec3::X,
+                    ));
+                    let y = direct::Loop::<lie::GlamF64>::new(rf).run(1000, 1e-3);
+                    black_box(y.body.x)
+                })
+            });
+            g.bench_function("glam-f32-direct", |b| {
+                b.iter(|| {
+                    let rf = *black_box(&controllers::PositionReference::hold(
+                        glam::Vec3::ZERO,
+                        glam::Vec3::X,
+                    ));
+                    let y = direct::Loop::<lie::GlamF32>::new(rf).run(1000, 1e-3);
+                    black_box(y.body.x)
                 })
             });
             g.bench_function("glam-f32-hand", |b| {

@@ -101,14 +101,29 @@ fn criterion(package: &str, bench: &str, quick: bool) -> Result<(), String> {
     Ok(())
 }
 
-/// `(group, pair, hand?)` of a criterion id `group/pair[-hand]`.
-fn parse(id: &str) -> Option<(String, String, bool)> {
+/// What a criterion id `group/pair[-hand|-direct]` measured.
+#[derive(Copy, Clone, PartialEq, Eq, Debug)]
+enum Variant {
+    /// The public generic code (scene front end, generic loop).
+    Generic,
+    /// The hand-written twin, the baseline.
+    Hand,
+    /// The closed loop from the public pieces alone, without the
+    /// `scenarios` layer (`step-rk4` only).
+    Direct,
+}
+
+/// `(group, pair, variant)` of a criterion id.
+fn parse(id: &str) -> Option<(String, String, Variant)> {
     let (group, func) = id.split_once('/')?;
-    let (pair, hand) = match func.strip_suffix("-hand") {
-        Some(p) => (p, true),
-        None => (func, false),
+    let (pair, variant) = if let Some(p) = func.strip_suffix("-hand") {
+        (p, Variant::Hand)
+    } else if let Some(p) = func.strip_suffix("-direct") {
+        (p, Variant::Direct)
+    } else {
+        (func, Variant::Generic)
     };
-    Some((group.to_string(), pair.to_string(), hand))
+    Some((group.to_string(), pair.to_string(), variant))
 }
 
 fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
@@ -117,10 +132,10 @@ fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
     let wanted = |g: &str| {
         g == "attitude" || g == "position" || g.starts_with("step-") || g == "flip-rk4-1ms"
     };
-    // (group, pair) -> (generic, hand)
-    let mut t: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
+    // (group, pair) -> [generic, hand, direct]
+    let mut t: BTreeMap<(String, String), [Option<f64>; 3]> = BTreeMap::new();
     for (id, median) in raw {
-        let Some((group, pair, hand)) = parse(&id) else {
+        let Some((group, pair, variant)) = parse(&id) else {
             continue;
         };
         if !wanted(&group) {
@@ -132,16 +147,10 @@ fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
         } else {
             median
         };
-        let e = t.entry((group, pair)).or_default();
-        if hand {
-            e.1 = Some(per)
-        } else {
-            e.0 = Some(per)
-        }
+        t.entry((group, pair)).or_default()[variant as usize] = Some(per);
     }
     let mut rows = Vec::new();
-    for ((group, pair), (g, h)) in t {
-        let Some(g) = g else { continue };
+    for ((group, pair), [g, h, d]) in t {
         let (backend, scalar) = pair.split_once('-').unwrap_or((&pair, ""));
         let name = if let Some(k) = group.strip_prefix("step-") {
             format!("closed-loop {k} step")
@@ -150,13 +159,19 @@ fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
         } else {
             format!("{group} update")
         };
-        rows.push(Row {
+        let row = |name: String, median_ns| Row {
             name,
             backend: backend.to_string(),
             scalar: scalar.to_string(),
-            median_ns: g,
+            median_ns,
             baseline_ns: h,
-        });
+        };
+        if let Some(g) = g {
+            rows.push(row(name.clone(), g));
+        }
+        if let Some(d) = d {
+            rows.push(row(format!("{name} without the scenarios layer"), d));
+        }
     }
     Ok(rows)
 }
@@ -576,11 +591,15 @@ mod tests {
     fn criterion_ids_split_into_group_pair_and_twin() {
         assert_eq!(
             parse("position/glam-f64-hand"),
-            Some(("position".into(), "glam-f64".into(), true))
+            Some(("position".into(), "glam-f64".into(), Variant::Hand))
         );
         assert_eq!(
             parse("step-rk4/nalgebra-f32"),
-            Some(("step-rk4".into(), "nalgebra-f32".into(), false))
+            Some(("step-rk4".into(), "nalgebra-f32".into(), Variant::Generic))
+        );
+        assert_eq!(
+            parse("step-rk4/glam-f32-direct"),
+            Some(("step-rk4".into(), "glam-f32".into(), Variant::Direct))
         );
         assert_eq!(parse("nogroup"), None);
     }
