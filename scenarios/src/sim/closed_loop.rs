@@ -169,6 +169,10 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             || self.nv > 0
             || self.vehicle.rate_dependent_loads()
     }
+    // Inlined into the stepper: out of line, the load came back through
+    // memory and the step waited on it (step bench: 726 → 689 µs f32,
+    // 742 → 714 µs f64 per 1000 RK4 steps, the hand twin unchanged).
+    #[inline(always)]
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N> {
         self.evaluations += 1;
         let mut rates = [S::<B>::lit(0.0); N];
