@@ -125,6 +125,9 @@ pub(crate) fn check_h<B: Backend>(h: S<B>) -> Result<(), StepError> {
     Ok(())
 }
 
+// Inlined: out of line, the new state was copied into its frame and out
+// again (two memcpy calls per step).
+#[inline(always)]
 pub(crate) fn finish<B: Backend, const N: usize>(
     t: S<B>,
     y: &mut State<B, N>,
