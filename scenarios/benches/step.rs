@@ -201,7 +201,8 @@ mod direct {
             let mut rk4 = Rk4::default();
             for i in 0..steps {
                 let t = S::<B>::lit(i as f64 * h);
-                rk4.step(self, t, S::<B>::lit(h), &mut y).expect("regular step");
+                rk4.step(self, t, S::<B>::lit(h), &mut y)
+                    .expect("regular step");
             }
             y
         }
