@@ -3,10 +3,14 @@
 //! A run hands each [`Sample`] and mode switch to a [`Sink`] as it produces
 //! them ([`crate::RunOptions::sink`]), so memory stays bounded whatever the
 //! duration. [`CsvWriter`] and [`McapWriter`] are the two sinks shipped;
-//! [`Tee`] feeds several at once. Both write to `<name>.partial` and rename
-//! it to `<name>` in `finish`: a run killed outright (SIGKILL, power loss)
-//! leaves a `.partial` file, never a truncated file under the requested
-//! name. [`write_csv`] and [`write_mcap`] write a finished [`RunOutput`]
+//! [`Tee`] feeds several at once. Both write a file to `<name>.partial` and
+//! rename it to `<name>` in `finish`: a run killed outright (SIGKILL, power
+//! loss) leaves a `.partial` file, never a truncated file under the
+//! requested name, and any other failure removes the `.partial`. A stream
+//! (a character device such as `/dev/null`, a FIFO, a pipe behind
+//! `/dev/stdout`) is written in place: renaming over it would replace the
+//! device node with a regular file. A directory or a dangling link is an
+//! error at `create`, before anything is written ([`classify_output`]). [`write_csv`] and [`write_mcap`] write a finished [`RunOutput`]
 //! through the same writers.
 //!
 //! CSV numbers are written in the shortest form that parses back to the
@@ -89,10 +93,137 @@ pub struct Stopped {
     pub reason: String,
 }
 
+/// An error with its causes: the MCAP crate's I/O error says only "I/O
+/// error from writing", and the cause (`No space left on device`) is
+/// what the reader needs.
+fn err_chain(path: &Path, e: &dyn std::error::Error) -> OutputError {
+    let mut message = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        message.push_str(": ");
+        message.push_str(&c.to_string());
+        cause = c.source();
+    }
+    err(path, message)
+}
+
 fn temp_path(path: &Path) -> PathBuf {
     let mut name = path.file_name().unwrap_or_default().to_os_string();
     name.push(".partial");
     path.with_file_name(name)
+}
+
+/// What an output path names, as far as writing it is concerned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathKind {
+    /// Nothing there yet: written as `<name>.partial`, renamed when closed.
+    New,
+    /// A regular file (or a symlink to one): replaced the same way, so a
+    /// run that dies leaves the old file intact.
+    Regular,
+    /// A character device, FIFO or socket (`/dev/null`, `/dev/stdout` on a
+    /// pipe): written in place. Renaming over it would replace the device
+    /// node with a regular file, for the whole machine when run as root.
+    Stream,
+}
+
+/// Classifies an output path before anything is written, so that a bad
+/// one fails before a run starts: a directory, a symlink loop or dangling
+/// link, or a parent directory that does not exist is an error naming the
+/// path.
+pub fn classify_output(path: &Path) -> Result<PathKind, OutputError> {
+    use std::os::unix::fs::FileTypeExt;
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(PathKind::Regular),
+        Ok(m) if m.is_dir() => Err(err(path, "is a directory, not a file")),
+        Ok(m) => {
+            let t = m.file_type();
+            if t.is_char_device() || t.is_fifo() || t.is_socket() {
+                Ok(PathKind::Stream)
+            } else {
+                Err(err(
+                    path,
+                    "is neither a file nor a stream (a block device?)",
+                ))
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            if std::fs::symlink_metadata(path).is_ok() {
+                return Err(err(path, "is a symlink to nothing"));
+            }
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            match std::fs::metadata(dir) {
+                Ok(m) if m.is_dir() => Ok(PathKind::New),
+                Ok(_) => Err(err(path, format!("{} is not a directory", dir.display()))),
+                Err(e) => Err(err(path, format!("directory {}: {e}", dir.display()))),
+            }
+        }
+        Err(e) => Err(err(path, e)),
+    }
+}
+
+/// An output being written: either `<name>.partial` (renamed to `<name>`
+/// by [`Target::commit`], removed if dropped before that) or a stream
+/// written in place.
+struct Target {
+    path: PathBuf,
+    /// The `.partial` file while it exists.
+    tmp: Option<PathBuf>,
+}
+
+impl Target {
+    /// Opens `path` for writing as [`classify_output`] says.
+    fn open(path: &Path) -> Result<(Self, File), OutputError> {
+        match classify_output(path)? {
+            PathKind::Stream => {
+                let f = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(|e| err(path, e))?;
+                let t = Self {
+                    path: path.to_path_buf(),
+                    tmp: None,
+                };
+                Ok((t, f))
+            }
+            PathKind::New | PathKind::Regular => {
+                // A symlink to a regular file: replace the file it names,
+                // not the link.
+                let real = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+                let tmp = temp_path(&real);
+                let f = File::create(&tmp).map_err(|e| err(path, e))?;
+                let t = Self {
+                    path: real,
+                    tmp: Some(tmp),
+                };
+                Ok((t, f))
+            }
+        }
+    }
+
+    /// Syncs a file (a stream has nothing to sync: `fsync` on a pipe or
+    /// `/dev/null` fails) and renames the `.partial` over the target.
+    fn commit(&mut self, f: &File, shown: &Path) -> Result<(), OutputError> {
+        if let Some(tmp) = &self.tmp {
+            f.sync_all().map_err(|e| err(shown, e))?;
+            std::fs::rename(tmp, &self.path).map_err(|e| err(shown, e))?;
+            self.tmp = None;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Target {
+    fn drop(&mut self) {
+        // Not committed: a write failed or the writer was abandoned. What
+        // was written is incomplete; leave nothing behind.
+        if let Some(tmp) = self.tmp.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
 }
 
 /// The shortest round-trip decimal form of `x` (`NaN`, `inf`, `-inf` when
@@ -263,24 +394,24 @@ fn write_csv_batches(
 /// queue, as [`McapWriter`] does.
 pub struct CsvWriter {
     path: PathBuf,
-    tmp: PathBuf,
+    target: Target,
     batch: CsvBatch,
     rows: u64,
     worker: Worker<CsvBatch, BufWriter<File>>,
 }
 
 impl CsvWriter {
-    /// Creates `<path>.partial` and starts the writer thread.
+    /// Creates `<path>.partial` (a stream such as `/dev/null` or a pipe is
+    /// written in place) and starts the writer thread.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
-        let tmp = temp_path(path);
-        let f = File::create(&tmp).map_err(|e| err(path, e))?;
+        let (target, f) = Target::open(path)?;
         let w = BufWriter::with_capacity(1 << 20, f);
         let worker = Worker::spawn(path, "csv-writer", move |rx| {
             write_csv_batches(w, rx).map_err(|e| e.to_string())
         })?;
         Ok(Self {
             path: path.to_path_buf(),
-            tmp,
+            target,
             batch: CsvBatch {
                 width: 0,
                 nums: Vec::new(),
@@ -317,8 +448,7 @@ impl CsvWriter {
         self.send()?;
         let w = self.worker.join()?;
         let f = w.into_inner().map_err(|e| err(&self.path, e.error()))?;
-        f.sync_all().map_err(|e| err(&self.path, e))?;
-        std::fs::rename(&self.tmp, &self.path).map_err(|e| err(&self.path, e))?;
+        self.target.commit(&f, &self.path)?;
         Ok(self.rows)
     }
 }
@@ -506,7 +636,7 @@ const BATCH: usize = 4096;
 /// The channel slot of `/vehicle/states` (created at its first message).
 const STATES_SLOT: u8 = 7;
 
-type Mcap = mcap::Writer<BufWriter<File>>;
+type Mcap = mcap::Writer<mcap::write::NoSeek<BufWriter<File>>>;
 
 /// Appends one protobuf message to `buf` (a growing `Vec` never runs out
 /// of room, so this fails only on a message the type cannot encode).
@@ -587,7 +717,7 @@ fn write_batches(
 /// samples in memory.
 pub struct McapWriter {
     path: PathBuf,
-    tmp: PathBuf,
+    target: Target,
     batch: Batch,
     worker: Worker<Batch, Mcap>,
     mode_names: Vec<&'static str>,
@@ -608,12 +738,15 @@ impl McapWriter {
     /// Creates `<path>.partial` with the schemas and channels, and starts
     /// the writer thread.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
-        let tmp = temp_path(path);
-        let e = |x: mcap::McapError| err(path, x);
-        let file = BufWriter::with_capacity(1 << 20, File::create(&tmp).map_err(|x| err(path, x))?);
+        let (target, file) = Target::open(path)?;
+        let e = |x: mcap::McapError| err_chain(path, &x);
+        // Never seek, so a pipe works like a file: each chunk is assembled
+        // in memory (a few hundred kB) and written once.
+        let file = mcap::write::NoSeek::new(BufWriter::with_capacity(1 << 20, file));
         let mut w = mcap::WriteOptions::new()
             .compression(Some(mcap::Compression::Lz4))
             .profile("")
+            .disable_seeking(true)
             .create(file)
             .map_err(e)?;
         let pose = add_schema(&mut w, PoseInFrame::get_schema()).map_err(e)?;
@@ -633,11 +766,11 @@ impl McapWriter {
                 .map_err(e)?;
         }
         let worker = Worker::spawn(path, "mcap-writer", move |rx| {
-            write_batches(w, ch, rx).map_err(|e| e.to_string())
+            write_batches(w, ch, rx).map_err(|e| err_chain(Path::new(""), &e).message)
         })?;
         Ok(Self {
             path: path.to_path_buf(),
-            tmp,
+            target,
             batch: Batch::default(),
             worker,
             mode_names: Vec::new(),
@@ -720,7 +853,7 @@ impl McapWriter {
         }
         let mut w = self.worker.join()?;
         let path = self.path.clone();
-        let e = |x: mcap::McapError| err(&path, x);
+        let e = |x: mcap::McapError| err_chain(&path, &x);
         if !warnings.is_empty() {
             let metadata = warnings
                 .iter()
@@ -750,9 +883,9 @@ impl McapWriter {
         let f = w
             .into_inner()
             .into_inner()
+            .into_inner()
             .map_err(|x| err(&path, x.error()))?;
-        f.sync_all().map_err(|x| err(&path, x))?;
-        std::fs::rename(&self.tmp, &path).map_err(|x| err(&path, x))?;
+        self.target.commit(&f, &path)?;
         Ok(self.messages)
     }
 }

@@ -1,5 +1,6 @@
 //! `cargo xtask run`.
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use std::sync::Arc;
@@ -63,17 +64,27 @@ pub struct RunArgs {
     pub strict: bool,
 }
 
-/// Checks the output paths before anything runs: each one's directory
-/// exists and is writable, the CSV and MCAP paths differ, and neither is
-/// the scene file (which would be overwritten).
+/// Checks the output paths before anything runs, so that no bad path is
+/// found only after the run: each is a new file in an existing, writable
+/// directory, a regular file (replaced when the run ends) or a stream
+/// (`/dev/null`, a pipe: written in place); never a directory, a dangling
+/// link, the scene file (also through a symlink), or both outputs at once.
+/// The `--plot` directory is created now and must be writable.
 pub fn check_outputs(
     csv: Option<&Path>,
     mcap: Option<&Path>,
+    plot: Option<&Path>,
     scene_file: Option<&Path>,
 ) -> Result<(), String> {
-    // The absolute form of a path that may not exist yet: its directory
-    // canonicalised, then its name.
-    let resolve = |opt: &str, p: &Path| -> Result<PathBuf, String> {
+    // The absolute form of a path: itself canonicalised when it exists
+    // (through any symlink), else its directory canonicalised and its name.
+    // `None` for a stream: two outputs to `/dev/null` are fine, and a pipe
+    // behind `/dev/stdout` has no path to compare.
+    let resolve = |opt: &str, p: &Path| -> Result<Option<PathBuf>, String> {
+        let kind = output::classify_output(p).map_err(|e| format!("{opt}: {e}"))?;
+        if kind == output::PathKind::Stream {
+            return Ok(None);
+        }
         let name = p
             .file_name()
             .ok_or_else(|| format!("{opt} {}: not a file name", p.display()))?;
@@ -84,20 +95,17 @@ pub fn check_outputs(
         let dir = dir
             .canonicalize()
             .map_err(|e| format!("{opt} {}: directory {}: {e}", p.display(), dir.display()))?;
-        // Writable: create and remove a probe file next to the target.
-        let probe = dir.join(format!(".gpid-write-probe-{}", std::process::id()));
-        std::fs::write(&probe, b"").map_err(|e| {
-            format!(
-                "{opt} {}: cannot write in {}: {e}",
-                p.display(),
-                dir.display()
-            )
-        })?;
-        let _ = std::fs::remove_file(&probe);
-        Ok(dir.join(name))
+        probe_writable(&dir).map_err(|e| format!("{opt} {}: {e}", p.display()))?;
+        if kind == output::PathKind::Regular {
+            return p
+                .canonicalize()
+                .map(Some)
+                .map_err(|e| format!("{opt} {}: {e}", p.display()));
+        }
+        Ok(Some(dir.join(name)))
     };
-    let c = csv.map(|p| resolve("--csv", p)).transpose()?;
-    let m = mcap.map(|p| resolve("--mcap", p)).transpose()?;
+    let c = csv.map(|p| resolve("--csv", p)).transpose()?.flatten();
+    let m = mcap.map(|p| resolve("--mcap", p)).transpose()?.flatten();
     if let (Some(c), Some(m)) = (&c, &m)
         && c == m
     {
@@ -116,6 +124,25 @@ pub fn check_outputs(
             }
         }
     }
+    if let Some(dir) = plot {
+        if dir.exists() && !dir.is_dir() {
+            return Err(format!(
+                "--plot {}: exists and is not a directory",
+                dir.display()
+            ));
+        }
+        std::fs::create_dir_all(dir).map_err(|e| format!("--plot {}: {e}", dir.display()))?;
+        probe_writable(dir).map_err(|e| format!("--plot {}: {e}", dir.display()))?;
+    }
+    Ok(())
+}
+
+/// Creates and removes a probe file in `dir`: permission bits alone do not
+/// tell (root ignores them, a read-only mount does not show in them).
+fn probe_writable(dir: &Path) -> Result<(), String> {
+    let probe = dir.join(format!(".gpid-write-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(|e| format!("cannot write in {}: {e}", dir.display()))?;
+    let _ = std::fs::remove_file(&probe);
     Ok(())
 }
 
@@ -277,9 +304,10 @@ pub fn health_warnings(scene: &Scene, out: &RunOutput) -> Vec<String> {
 }
 
 /// Prints the end-of-run summary.
-pub fn summary(scene: &Scene, out: &RunOutput) {
+pub fn summary(w: &mut dyn std::io::Write, scene: &Scene, out: &RunOutput) -> std::io::Result<()> {
     let l = &out.last;
-    println!(
+    writeln!(
+        w,
         "{} — {} s with {} (dt {}{}), {:?}/{:?}, {} control",
         scene.name,
         scene.duration,
@@ -296,39 +324,54 @@ pub fn summary(scene: &Scene, out: &RunOutput) {
             Timing::Continuous => "continuous".to_string(),
             Timing::Sampled => format!("sampled {} Hz", scene.control.rate),
         }
-    );
-    println!(
+    )?;
+    writeln!(
+        w,
         "  final: Ψ = {:.3e}, ‖e_x‖ = {:.3e} m, |Ω| = {:.3e} rad/s, e_I = {:?}, e_i = {:?}",
         l.psi,
         l.ex,
         (l.omega.iter().map(|c| c * c).sum::<f64>()).sqrt(),
         l.e_att.map(|c| (c * 1e4).round() / 1e4),
         l.e_pos.map(|c| (c * 1e4).round() / 1e4),
-    );
-    println!(
+    )?;
+    writeln!(
+        w,
         "  max over recorded samples: thrust {:.3} N, rotor thrust {:.3} N; {} switches, {} located sat′ events",
         out.max_thrust,
         out.max_rotor,
         out.switches.len(),
         out.events
-    );
-    println!(
+    )?;
+    writeln!(
+        w,
         "  health over the samples and the end: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
         out.max_orthogonality_error, out.psi_range.0, out.psi_range.1
-    );
+    )?;
     if !out.event_times.is_empty() {
         let ev: Vec<String> = out
             .event_times
             .iter()
             .map(|(t, k)| format!("e_i{} at {t:.9} s", k + 1))
             .collect();
-        println!("  sat′ events: {}", ev.join(", "));
+        writeln!(w, "  sat′ events: {}", ev.join(", "))?;
     }
     let sps = out.steps as f64 / out.wall.max(1e-9);
-    println!(
+    writeln!(
+        w,
         "  {} steps, {} evaluations, wall {:.3} s, {:.0} steps/s",
         out.steps, out.evaluations, out.wall, sps
-    );
+    )?;
+    Ok(())
+}
+
+/// Whether `p` is the file behind this process's standard output (the
+/// same device and inode), e.g. `/dev/stdout` or `/proc/self/fd/1`.
+fn is_stdout(p: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(p), std::fs::metadata("/proc/self/fd/1")) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
 }
 
 /// Remembers the time of the last sample handed on, so that a run ended
@@ -375,6 +418,7 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     check_outputs(
         a.csv.as_deref(),
         a.mcap.as_deref(),
+        a.plot.as_deref(),
         scene_file.exists().then_some(scene_file),
     )?;
     let steps = estimated_steps(&scene);
@@ -486,8 +530,19 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
             1,
         ),
     };
+    // The report goes to stderr when an output streams to stdout
+    // (`--csv /dev/stdout | ...`), so it does not land among the rows.
+    let to_stdout = [a.csv.as_deref(), a.mcap.as_deref()]
+        .into_iter()
+        .flatten()
+        .any(is_stdout);
+    let mut report: Box<dyn std::io::Write> = if to_stdout {
+        Box::new(std::io::stderr())
+    } else {
+        Box::new(std::io::stdout())
+    };
     if let Ok(out) = &result {
-        summary(&scene, out);
+        summary(&mut report, &scene, out).map_err(|e| format!("printing the summary: {e}"))?;
     }
     let health_count = warnings.len() - result.as_ref().map_or(0, |o| o.warnings.len());
     // Both files close at once: each ends with an fsync, which for a long
@@ -503,12 +558,12 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     if let Some(rows) = csv_done {
         let rows = rows.map_err(|e| e.to_string())?;
         let p = a.csv.as_deref().expect("a CSV writer has a path");
-        println!("  wrote {} ({rows} rows)", p.display());
+        let _ = writeln!(report, "  wrote {} ({rows} rows)", p.display());
     }
     if let Some(n) = mcap_done {
         let n = n.map_err(|e| e.to_string())?;
         let p = a.mcap.as_deref().expect("an MCAP writer has a path");
-        println!("  wrote {} ({n} messages)", p.display());
+        let _ = writeln!(report, "  wrote {} ({n} messages)", p.display());
     }
     warnings.clear();
     let out = result.map_err(|e| {
@@ -533,7 +588,7 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     if let Some(dir) = &a.plot {
         let files = crate::plot::figures(dir, &scene, &out)?;
         for f in files {
-            println!("  wrote {}", f.display());
+            let _ = writeln!(report, "  wrote {}", f.display());
         }
     }
     Ok(status)
@@ -549,19 +604,41 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let csv = dir.join("a.csv");
         let mcap = dir.join("a.mcap");
-        assert!(check_outputs(Some(&csv), Some(&mcap), None).is_ok());
+        assert!(check_outputs(Some(&csv), Some(&mcap), None, None).is_ok());
         // Same file twice, spelled differently.
         let same = dir.join(".").join("a.csv");
-        let e = check_outputs(Some(&csv), Some(&same), None).unwrap_err();
+        let e = check_outputs(Some(&csv), Some(&same), None, None).unwrap_err();
         assert!(e.contains("same file"), "{e}");
         // A missing directory is named with the option.
-        let e = check_outputs(Some(&dir.join("nodir").join("x.csv")), None, None).unwrap_err();
+        let e =
+            check_outputs(Some(&dir.join("nodir").join("x.csv")), None, None, None).unwrap_err();
         assert!(e.starts_with("--csv") && e.contains("nodir"), "{e}");
         // The scene file is not an output.
         let scene = dir.join("s.toml");
         std::fs::write(&scene, "x").unwrap();
-        let e = check_outputs(None, Some(&scene), Some(&scene)).unwrap_err();
+        let e = check_outputs(None, Some(&scene), None, Some(&scene)).unwrap_err();
         assert!(e.contains("scene file"), "{e}");
+        // ... nor through a symlink to it.
+        std::os::unix::fs::symlink(&scene, dir.join("link.csv")).unwrap();
+        let e = check_outputs(Some(&dir.join("link.csv")), None, None, Some(&scene)).unwrap_err();
+        assert!(e.starts_with("--csv") && e.contains("scene file"), "{e}");
+        // A directory is not an output file.
+        let e = check_outputs(None, Some(&dir), None, None).unwrap_err();
+        assert!(
+            e.starts_with("--mcap") && e.contains("is a directory"),
+            "{e}"
+        );
+        // Two streams to the same sink are fine (`/dev/null` twice).
+        let null = std::path::Path::new("/dev/null");
+        assert!(check_outputs(Some(null), Some(null), None, None).is_ok());
+        // --plot: a file in the way, or a place that cannot be created.
+        let e = check_outputs(None, None, Some(&scene), None).unwrap_err();
+        assert!(
+            e.starts_with("--plot") && e.contains("not a directory"),
+            "{e}"
+        );
+        let e = check_outputs(None, None, Some(Path::new("/proc/gpid-figs")), None).unwrap_err();
+        assert!(e.starts_with("--plot"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }
 
