@@ -30,6 +30,7 @@
 
 #![deny(missing_docs)]
 
+pub mod dense;
 mod dopri;
 mod lgvi;
 pub mod problems;

@@ -213,10 +213,16 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     fn from_quaternion(q: B::Quat) -> Self {
         Self(quat::to_matrix::<B>(q))
     }
-    /// `½ tr(I − Rdᵀ R)` as `½(3 − ⟨Rd, R⟩_F)`: nine products, no matrix product.
+    /// `½ tr(I − Rdᵀ R)` as `¼ ‖R − Rd‖²_F` (equal for rotations, since
+    /// `‖R − Rd‖² = 6 − 2 tr(RdᵀR)`): a sum of squares, so never negative
+    /// and accurate to rounding relative to Ψ itself near 0, where
+    /// `½(3 − tr)` cancels to a few ε of absolute error of either sign.
+    /// Off SO(3) the two forms differ by the drift, which
+    /// [`Rotation::orthogonality_error`] reports.
     #[inline]
     fn psi(self, rd: Self) -> S<B> {
-        S::<B>::lit(0.5) * (S::<B>::lit(3.0) - ops::frob_dot::<B>(rd.0, self.0))
+        let d = self.0 - rd.0;
+        S::<B>::lit(0.25) * ops::frob_dot::<B>(d, d)
     }
     #[inline]
     fn e_r(self, rd: Self) -> V3<B> {
@@ -228,11 +234,11 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     }
     #[inline]
     fn errors_to_identity(self) -> (V3<B>, S<B>) {
-        let e = ops::elems::<B>(self.0);
-        let h = S::<B>::lit(0.5);
+        // Ψ against I as in `psi`: ¼ ‖R − I‖², never negative.
+        let d = self.0 - ops::identity::<B>();
         (
             vee::<B>(self.0),
-            h * (S::<B>::lit(3.0) - (e[0][0] + e[1][1] + e[2][2])),
+            S::<B>::lit(0.25) * ops::frob_dot::<B>(d, d),
         )
     }
     #[inline]

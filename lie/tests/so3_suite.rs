@@ -467,6 +467,41 @@ pub fn drift_and_renormalisation<B: Backend, R: Rotation<B>>() {
     assert!(fixed < 16.0 * e, "{fixed:e}");
 }
 
+/// Ψ is never negative and exact near 0: at angles 1e-9 … 1e-2 between R
+/// and R_d (in the scalar's representable range) it matches the closed
+/// form `1 − cos θ = 2 sin²(θ/2)` to a relative error of a few ε, where
+/// `½(3 − tr RdᵀR)` would leave an absolute error of a few ε of either
+/// sign (a relative error of 1e7 at θ = 1e-9 in f64).
+pub fn psi_is_nonnegative_and_exact_near_zero<B: Backend, R: Rotation<B>>() {
+    let e = eps::<B>();
+    let mut rng = Rng::new(11);
+    let mut worst = 0.0f64;
+    for _ in 0..200 {
+        let rd = exp_b::<B, R>(rng.rotvec(PI));
+        assert!(rd.psi(rd).to_f64_lossless() >= 0.0);
+        for theta in [1e-9, 1e-7, 1e-5, 1e-3, 1e-2] {
+            // Small angles that the scalar resolves: f32 keeps its
+            // relative precision down to θ ≈ 1e-3 only, since R itself is
+            // stored to ε ≈ 6e-8 per entry.
+            if theta * theta < 1e2 * e {
+                continue;
+            }
+            let r = rd * exp_b::<B, R>(scale(rng.unit(), theta));
+            let psi = r.psi(rd).to_f64_lossless();
+            assert!(psi >= 0.0, "Ψ = {psi:e} at θ = {theta:e}");
+            let exact = 2.0 * (theta / 2.0).sin().powi(2);
+            // R·Exp(θ) carries the rounding of a product (a few ε per
+            // entry) against a difference of size θ: relative ≲ ε/θ².
+            worst = worst.max((psi / exact - 1.0).abs() / (e / (theta * theta)));
+        }
+    }
+    println!(
+        "{} Ψ near 0: worst relative error {worst:.2} × ε/θ²",
+        tag::<B, R>()
+    );
+    assert!(worst < 1.0, "{worst:e}");
+}
+
 macro_rules! so3_suite {
     ($($modname:ident: $backend:ty, $rep:ident;)*) => {$(
         mod $modname {
@@ -479,6 +514,7 @@ macro_rules! so3_suite {
             #[test] fn exp_matches_series() { super::exp_matches_series::<B, R>() }
             #[test] fn jacobians_match_finite_differences() { super::jacobians_match_finite_differences::<B, R>() }
             #[test] fn attitude_error_proposition_1() { super::attitude_error_proposition_1::<B, R>() }
+            #[test] fn psi_is_nonnegative_and_exact_near_zero() { super::psi_is_nonnegative_and_exact_near_zero::<B, R>() }
             #[test] fn adjoint_by_conjugation() { super::adjoint_by_conjugation::<B, R>() }
             #[test] fn slerp_is_geodesic() { super::slerp_is_geodesic::<B, R>() }
             #[test] fn representations_agree() { super::representations_agree::<B, R>() }

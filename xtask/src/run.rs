@@ -284,10 +284,11 @@ pub fn health_warnings(scene: &Scene, out: &RunOutput) -> Vec<String> {
             out.max_orthogonality_error, scene.scalar
         ));
     }
-    // Ψ = ½ tr(I − R_dᵀR) is computed from a trace: it rounds at ~10 ε,
-    // and an R off SO(3) by e = ‖RᵀR − I‖ moves it by up to ~e. Only a
-    // departure beyond that says R is not a rotation (a one-hour f64 hover
-    // reached Ψ = −2.9e-11 with e = 8e-11: rounding, not a fault).
+    // Ψ is computed as ¼‖R − R_d‖², never negative; an R off SO(3) by
+    // e = ‖RᵀR − I‖ moves it by up to ~e, and rounding by ~10 ε. Only a
+    // departure from [0, 2] beyond that says R is not a rotation. (Ψ from
+    // a trace went negative by rounding: −2.9e-11 after an hour of f64
+    // hover with e = 8e-11.)
     let slack =
         10.0 * match scene.scalar {
             Scalar::F64 => f64::EPSILON,
@@ -336,7 +337,7 @@ pub fn summary(w: &mut dyn std::io::Write, scene: &Scene, out: &RunOutput) -> st
     )?;
     writeln!(
         w,
-        "  max over recorded samples: thrust {:.3} N, rotor thrust {:.3} N; {} switches, {} located sat′ events",
+        "  max over every step: thrust {:.3} N, rotor thrust {:.3} N; {} switches, {} located sat′ events",
         out.max_thrust,
         out.max_rotor,
         out.switches.len(),
@@ -344,7 +345,7 @@ pub fn summary(w: &mut dyn std::io::Write, scene: &Scene, out: &RunOutput) -> st
     )?;
     writeln!(
         w,
-        "  health over the samples and the end: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
+        "  health over every step: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
         out.max_orthogonality_error, out.psi_range.0, out.psi_range.1
     )?;
     if !out.event_times.is_empty() {
@@ -642,14 +643,14 @@ mod tests {
         std::fs::remove_dir_all(&dir).ok();
     }
 
-    /// The health check tells rounding from a fault: Euler at 0.05 s on
-    /// the flip (R off the group, Ψ < 0) warns; a run whose Ψ is −3e-11
+    /// The health check tells rounding from a fault: Euler at 2 ms on
+    /// the flip (R off the group by 0.23) warns; a run whose Ψ is −3e-11
     /// with R off the group by 8e-11 (one hour of f64 hover) does not.
     #[test]
     fn health_warnings_fire_on_faults_not_on_rounding() {
         let mut s = scenarios::builtin::paper_flip();
         s.integrator.kind = "euler".into();
-        s.integrator.dt = 0.05;
+        s.integrator.dt = 0.002;
         let out = scenarios::run(&s, Default::default()).unwrap();
         let w = health_warnings(&s, &out);
         assert!(w.iter().any(|w| w.contains("left SO(3)")), "{w:?}");

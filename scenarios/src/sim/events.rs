@@ -107,8 +107,8 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
 /// O(h⁴) accurate; for Dormand–Prince's long calls that error, times the
 /// rate, was 1e-7 in the state), and lands the slot on ±level. The active
 /// mode integrates up to the crossing on the branch it was on and is left
-/// forced onto the far branch. Returns the located time and the steps
-/// taken.
+/// forced onto the far branch. Returns the located time, the steps taken
+/// and the branch the step up to the crossing was integrated on.
 pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
@@ -117,7 +117,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     h: f64,
     before: &State<B, N>,
     y: &mut State<B, N>,
-) -> Result<(f64, u64), SimError> {
+) -> Result<(f64, u64, SatBranch), SimError> {
     use integrators::System;
     let l = S::<B>::lit;
     let mut steps = 0u64;
@@ -155,7 +155,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     y.extra[c.slot] = l(c.target);
     sys.plan[sys.active].mode.force_branch(c.index, post);
     stepper.reset();
-    Ok((tc, steps))
+    Ok((tc, steps, pre))
 }
 
 /// The first time in `(t, ts]` at which a condition (the active

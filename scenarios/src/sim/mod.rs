@@ -6,7 +6,7 @@
 //! |---|---|
 //! | `mod.rs` | the public types: [`Simulation`] and its builder, [`Segment`], [`Until`], [`Control`], [`Sample`], [`RunOutput`], [`SimError`] |
 //! | `closed_loop.rs` | the vehicle, the plan and the held command as one [`integrators::System`]; the extra-state layout; switching |
-//! | `stepping.rs` | the stepping loop: checkpoints (record, control, switch times, end), steps landing on them, progress |
+//! | `stepping.rs` | the stepping loop: checkpoints (control instants, switch times, end), steps landing on them, samples from the continuous extension, extrema over every step, progress |
 //! | `events.rs` | event location: breakpoint crossings (the paper's sat′) and condition switches (`Ψ` below a threshold, a user predicate) |
 //! | `record.rs` | one [`Sample`] from the state and the command |
 //!
@@ -91,7 +91,9 @@ pub struct SwitchRecord {
 /// What a run produced.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
-    /// Samples every `record.sample` seconds, plus t = 0 and the end.
+    /// Samples every `record.sample` seconds, plus t = 0 and the end,
+    /// taken from the steps' continuous extension (the steps do not land
+    /// on them).
     pub samples: Vec<Sample>,
     /// Mode switches.
     pub switches: Vec<SwitchRecord>,
@@ -106,10 +108,10 @@ pub struct RunOutput {
     pub steps: u64,
     /// Load (vector-field) evaluations.
     pub evaluations: u64,
-    /// Largest commanded thrust over the recorded samples (and t = 0, the
-    /// end).
+    /// Largest commanded thrust over every step end, located event and
+    /// t = 0: the same with and without recording.
     pub max_thrust: f64,
-    /// Largest rotor thrust magnitude over the same samples.
+    /// Largest rotor thrust magnitude over the same states.
     pub max_rotor: f64,
     /// Wall time of the loop, s.
     pub wall: f64,
@@ -117,10 +119,10 @@ pub struct RunOutput {
     /// the scalar can deliver, say), one sentence each, for the caller to
     /// show.
     pub warnings: Vec<String>,
-    /// Largest ‖RᵀR − I‖_F over the recorded samples and the end (0 on
-    /// SO(3); grows when a stepper drifts off the group).
+    /// Largest ‖RᵀR − I‖_F over the same states (0 on SO(3); grows when a
+    /// stepper drifts off the group).
     pub max_orthogonality_error: f64,
-    /// Smallest and largest Ψ over the same samples (in [0, 2] for a
+    /// Smallest and largest Ψ over the same states (in [0, 2] for a
     /// rotation).
     pub psi_range: (f64, f64),
     /// When the run's stop condition ([`SimulationBuilder::stop_when`])

@@ -38,7 +38,9 @@ pub(crate) fn empty_sample() -> Sample {
     }
 }
 
-/// Updates the run's maxima with a sample.
+/// Updates the run's extrema with the figures of one state (every step
+/// end, located event and the start, never an interpolated sample: the
+/// extrema do not depend on what is recorded).
 pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
     out.max_thrust = out.max_thrust.max(s.thrust.abs());
     out.max_rotor = s.rotors.iter().fold(out.max_rotor, |a, r| a.max(r.abs()));

@@ -1,15 +1,18 @@
-//! The stepping loop: from checkpoint to checkpoint (record samples,
-//! control samples, time switches, the end; each `k·Δ` or a listed time,
-//! never an accumulated sum), in steps of `dt` with the last one shortened
-//! to land on the checkpoint; events inside a step are located by
-//! [`super::events`].
+//! The stepping loop: from checkpoint to checkpoint (control samples,
+//! time switches, the end: what changes the dynamics; each `k·Δ` or a
+//! listed time, never an accumulated sum), in steps of `dt` with the last
+//! one shortened to land on the checkpoint; events inside a step are
+//! located by [`super::events`]. Record instants are not checkpoints:
+//! samples come from each step's continuous extension, so the computed
+//! trajectory, the run's extrema (over every step end and located event)
+//! and its evaluation count are the same whatever is recorded.
 
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
 use dynamics::Wrench;
-use integrators::Integrator;
+use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
 
 use super::closed_loop::ClosedLoop;
@@ -18,18 +21,23 @@ use super::record::{empty_sample, sample, track};
 use super::{Control, RunOptions, RunOutput, Sample, SimError, Simulation, SwitchRecord, Until};
 use crate::output::Sink;
 
-/// Where samples go: kept in the output, handed to the sink, or both.
+/// Where samples go: kept in the output, handed to the sink, or both; and
+/// when: every `rec` seconds, taken from the steps' continuous extension
+/// ([`integrators::dense`]) so that recording never moves the step grid.
 struct Emit<'o, 's> {
     keep: bool,
     sink: Option<&'o mut (dyn Sink + 's)>,
     /// Time of the last sample emitted (a checkpoint that coincides with
     /// a located stop is not sampled twice).
     last_t: f64,
+    /// Record interval, s (0: only the start and the end).
+    rec: f64,
+    /// Record instants emitted so far; the next is `(k + 1)·rec`.
+    k: u64,
 }
 
 impl Emit<'_, '_> {
     fn sample(&mut self, out: &mut RunOutput, s: Sample) -> Result<(), SimError> {
-        track(out, &s);
         if s.t != self.last_t {
             self.last_t = s.t;
             if let Some(k) = self.sink.as_deref_mut() {
@@ -51,6 +59,100 @@ impl Emit<'_, '_> {
         }
         Ok(())
     }
+
+    fn next(&self) -> f64 {
+        (self.k + 1) as f64 * self.rec
+    }
+
+    /// Whether the next record instant is `t` (to rounding of `k·rec`).
+    fn due_at(&self, t: f64) -> bool {
+        self.rec > 0.0 && (self.next() - t).abs() <= 1e-9 * self.rec
+    }
+
+    /// Samples the state itself when the next record instant is `t`.
+    fn exact<B: Backend, const N: usize>(
+        &mut self,
+        out: &mut RunOutput,
+        sys: &mut ClosedLoop<'_, '_, B, N>,
+        t: f64,
+        y: &State<B, N>,
+    ) -> Result<(), SimError> {
+        if self.due_at(t) {
+            // Labelled with the instant `k·rec` itself, from which `t`
+            // differs by the rounding of the step grid at most.
+            let tk = self.next();
+            self.k += 1;
+            let s = sample(sys, tk, y)?;
+            self.sample(out, s)?;
+        }
+        Ok(())
+    }
+
+    /// Samples every record instant strictly inside the step from
+    /// `(t0, y0)` to `(t1, y1)` from its continuous extension. The loads
+    /// evaluated for it are not counted in the run's evaluations, which
+    /// stay the same with and without recording.
+    #[allow(clippy::too_many_arguments)]
+    fn inside<B: Backend, const N: usize>(
+        &mut self,
+        out: &mut RunOutput,
+        sys: &mut ClosedLoop<'_, '_, B, N>,
+        t0: f64,
+        y0: &State<B, N>,
+        t1: f64,
+        y1: &State<B, N>,
+    ) -> Result<(), SimError> {
+        if self.rec <= 0.0 || self.next() >= t1 - 1e-9 * self.rec {
+            return Ok(());
+        }
+        let l = S::<B>::lit;
+        let counted = sys.evaluations;
+        let l0 = sys.load(l(t0), y0);
+        let l1 = sys.load(l(t1), y1);
+        sys.evaluations = counted;
+        if let Some(e) = sys.error.take() {
+            return Err(SimError::Control(format!("at t = {t0}: {e}")));
+        }
+        let r0 = dense::Rates::of(sys, y0, &l0);
+        let r1 = dense::Rates::of(sys, y1, &l1);
+        let h = t1 - t0;
+        while self.rec > 0.0 && self.next() < t1 - 1e-9 * self.rec {
+            let tk = self.next();
+            self.k += 1;
+            let y = dense::interpolate(y0, &r0, y1, &r1, l(h), l((tk - t0) / h));
+            let s = sample(sys, tk, &y)?;
+            self.sample(out, s)?;
+        }
+        Ok(())
+    }
+}
+
+/// After the step that follows a located crossing: the law picks its
+/// breakpoint branches from the state again.
+fn release<B: Backend, const N: usize>(
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    count: usize,
+    forced: &mut bool,
+) {
+    if *forced {
+        for k in 0..count {
+            sys.plan[sys.active].mode.force_branch(k, SatBranch::Auto);
+        }
+        *forced = false;
+    }
+}
+
+/// Updates the run's extrema with the state at `t` (its command, Ψ,
+/// rotor thrusts, distance from SO(3)).
+fn track_state<B: Backend, const N: usize>(
+    out: &mut RunOutput,
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    t: f64,
+    y: &State<B, N>,
+) -> Result<(), SimError> {
+    let s = sample(sys, t, y)?;
+    track(out, &s);
+    Ok(())
 }
 
 pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
@@ -98,6 +200,8 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         keep,
         sink,
         last_t: f64::NAN,
+        rec,
+        k: 0,
     };
     let mut sys = ClosedLoop {
         vehicle: vehicle.as_ref(),
@@ -145,15 +249,10 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
     };
-    // Samples and control instants are checkpoints the steps land on: a
-    // finer grid than dt shortens every step without saying so.
-    let tight = |every: f64| every > 0.0 && every < dt * (1.0 - 1e-9);
-    if tight(rec) {
-        out.warnings.push(format!(
-            "steps land on every sample: with samples every {rec} s the steps are {rec} s, not dt = {dt} s (sample less often to step at dt)"
-        ));
-    }
-    if tight(ctrl) {
+    // Control instants are checkpoints the steps land on (the command
+    // changes there): a finer grid than dt shortens every step. Record
+    // instants are not: samples come from the steps' continuous extension.
+    if ctrl > 0.0 && ctrl < dt * (1.0 - 1e-9) {
         out.warnings.push(format!(
             "steps land on every control instant: at {} Hz the steps are at most {ctrl} s, not dt = {dt} s",
             1.0 / ctrl
@@ -179,15 +278,13 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         k.begin(&out.mode_names).map_err(SimError::Output)?;
     }
     let s0 = sample(&mut sys, 0.0, &y)?;
+    track(&mut out, &s0);
     emit.sample(&mut out, s0)?;
-    let (mut k_rec, mut k_ctrl, mut k_sw) = (0u64, 0u64, 0usize);
+    let (mut k_ctrl, mut k_sw) = (0u64, 0usize);
     let mut progress_next = 0.0;
     let mut forced_for_next_step = false;
     while t < t_end {
         let mut t_next = t_end;
-        if rec > 0.0 {
-            t_next = t_next.min((k_rec + 1) as f64 * rec);
-        }
         if ctrl > 0.0 {
             t_next = t_next.min((k_ctrl + 1) as f64 * ctrl);
         }
@@ -223,9 +320,22 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             {
                 // Split the step at the crossing: redo [t, tc], restart
                 // the dt grid from tc.
-                let (tc, steps) =
+                let (tc, steps, pre) =
                     split_at_crossing(&mut sys, &mut stepper, &c, t, h, &before, &mut y)?;
                 out.steps += steps;
+                // The samples up to the crossing come from the rates of
+                // the branch that step was integrated on (sat′ changes
+                // Ω̇ through the integral term's rate).
+                let post = if pre == SatBranch::Inside {
+                    SatBranch::Outside
+                } else {
+                    SatBranch::Inside
+                };
+                sys.plan[sys.active].mode.force_branch(c.index, pre);
+                emit.inside(&mut out, &mut sys, t, &before, tc, &y)?;
+                sys.plan[sys.active].mode.force_branch(c.index, post);
+                track_state(&mut out, &mut sys, tc, &y)?;
+                emit.exact(&mut out, &mut sys, tc, &y)?;
                 forced_for_next_step = true;
                 out.events += 1;
                 out.event_times.push((tc, c.index));
@@ -233,12 +343,6 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 seg_start = t;
                 j = 0;
                 continue;
-            }
-            if forced_for_next_step {
-                for k in 0..bps.len() {
-                    sys.plan[sys.active].mode.force_branch(k, SatBranch::Auto);
-                }
-                forced_for_next_step = false;
             }
             // A condition switch (Ψ below a threshold, a user predicate):
             // when it holds at the end of this step, bisect on redone steps
@@ -254,6 +358,8 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                     &before,
                     &y,
                 )?;
+                emit.inside(&mut out, &mut sys, t, &before, tc, &y_c)?;
+                release(&mut sys, bps.len(), &mut forced_for_next_step);
                 y = y_c;
                 if let Some(sw) = sys.switch(tc, &mut y) {
                     emit.switch(&mut out, sw)?;
@@ -262,6 +368,8 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                 if sampled {
                     sys.held = sys.command(l(tc), &y);
                 }
+                track_state(&mut out, &mut sys, tc, &y)?;
+                emit.exact(&mut out, &mut sys, tc, &y)?;
                 stepper.reset();
                 t = tc;
                 seg_start = t;
@@ -281,18 +389,37 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                     &before,
                     &y,
                 )?;
+                emit.inside(&mut out, &mut sys, t, &before, tc, &y_c)?;
                 y = y_c;
                 let s = sample(&mut sys, tc, &y)?;
+                track(&mut out, &s);
                 emit.sample(&mut out, s)?;
                 out.stopped_at = Some(tc);
                 out.evaluations = sys.evaluations;
                 out.wall = start.elapsed().as_secs_f64();
                 return Ok(out);
             }
+            // Samples inside the step, on the branches it was integrated
+            // on; then the law decides its branches from the state again.
+            emit.inside(&mut out, &mut sys, t, &before, ts, &y)?;
+            release(&mut sys, bps.len(), &mut forced_for_next_step);
             t = ts;
             j += 1;
+            if t < t_next {
+                // A checkpoint's own figures and sample come after what
+                // happens there (a switch, a new held command).
+                track_state(&mut out, &mut sys, t, &y)?;
+                emit.exact(&mut out, &mut sys, t, &y)?;
+            }
+            if let Some(p) = progress.as_deref_mut()
+                && t / t_end >= progress_next
+            {
+                p(t / t_end);
+                progress_next = (t / t_end + 0.005).min(1.0);
+            }
             if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                 let s = sample(&mut sys, t, &y)?;
+                track(&mut out, &s);
                 emit.sample(&mut out, s)?;
                 out.interrupted_at = Some(t);
                 out.evaluations = sys.evaluations;
@@ -326,19 +453,12 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         if changed {
             stepper.reset();
         }
-        let on_record = rec > 0.0 && ((k_rec + 1) as f64 * rec - t).abs() <= 1e-9 * rec;
-        if on_record {
-            k_rec += 1;
-        }
-        if on_record || t >= t_end {
+        track_state(&mut out, &mut sys, t, &y)?;
+        if emit.due_at(t) {
+            emit.exact(&mut out, &mut sys, t, &y)?;
+        } else if t >= t_end {
             let s = sample(&mut sys, t, &y)?;
             emit.sample(&mut out, s)?;
-        }
-        if let Some(p) = progress.as_deref_mut()
-            && t / t_end >= progress_next
-        {
-            p(t / t_end);
-            progress_next += 0.005;
         }
     }
     out.evaluations = sys.evaluations;
