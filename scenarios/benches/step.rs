@@ -37,11 +37,14 @@ fn final_error(a: &scenarios::Sample, b: &scenarios::Sample) -> f64 {
     dx.chain(dr).fold(0.0, f64::max)
 }
 
+/// The loop alone: no samples, and no per-step extrema (one controller
+/// evaluation per step, which the hand-written twins do not do either).
 fn quiet(s: &Scene) {
     let out = run(
         s,
         RunOptions {
             record: false,
+            extrema: false,
             ..Default::default()
         },
     )

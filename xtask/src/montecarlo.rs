@@ -609,9 +609,12 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
         b = b.segment(seg);
     }
     let mut peaks = Peaks::default();
+    // The peaks come from the samples; the run's own per-step extrema
+    // would cost a controller evaluation per step for nothing.
     let opts = RunOptions {
         record: false,
         sink: Some(&mut peaks),
+        extrema: false,
         ..Default::default()
     };
     let result = if kind == integrators::IntegratorKind::Dopri {

@@ -256,6 +256,7 @@ pub fn run_scene_with(
             // Reborrowed: the options' one lifetime is the closure's.
             sink: sink.map(|k| -> &mut dyn output::Sink { k }),
             cancel,
+            extrema: true,
         },
     );
     if let Some(b) = bar {

@@ -207,6 +207,13 @@ pub struct RunOptions<'a> {
     /// run stops where it is, takes a last sample there, and returns
     /// normally with [`RunOutput::interrupted_at`] set.
     pub cancel: Option<&'a AtomicBool>,
+    /// Track [`RunOutput::max_thrust`], [`RunOutput::max_rotor`],
+    /// [`RunOutput::max_orthogonality_error`] and [`RunOutput::psi_range`]
+    /// over every step end and located event (on by default). It costs one
+    /// controller evaluation per step (about 1.6k instructions on a
+    /// closed-loop RK4 step of about 8k); off, those fields cover only the
+    /// start, the located events and the end.
+    pub extrema: bool,
 }
 
 impl Default for RunOptions<'_> {
@@ -216,6 +223,7 @@ impl Default for RunOptions<'_> {
             progress: None,
             sink: None,
             cancel: None,
+            extrema: true,
         }
     }
 }

@@ -63,6 +63,57 @@ pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
     out.psi_range = (out.psi_range.0.min(s.psi), out.psi_range.1.max(s.psi));
 }
 
+/// [`track`] on the state at `t` without forming a [`Sample`] (no
+/// allocation): this runs after every step.
+pub(crate) fn track_figures<B: Backend, const N: usize>(
+    out: &mut RunOutput,
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    t: f64,
+    y: &State<B, N>,
+) -> Result<(), SimError> {
+    let cmd = if sys.sampled {
+        sys.held
+    } else {
+        sys.command(S::<B>::lit(t), y)
+    };
+    if let Some(e) = sys.error.take() {
+        return Err(SimError::Control(format!("at t = {t}: {e}")));
+    }
+    let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);
+    let e = r.orthogonality_error().to_f64_lossless();
+    out.max_orthogonality_error = if e.is_nan() {
+        f64::NAN
+    } else {
+        out.max_orthogonality_error.max(e)
+    };
+    let Some(c) = cmd else {
+        out.psi_range = (out.psi_range.0.min(0.0), out.psi_range.1.max(0.0));
+        return Ok(());
+    };
+    let psi = r.psi(c.out.desired).to_f64_lossless();
+    out.psi_range = (out.psi_range.0.min(psi), out.psi_range.1.max(psi));
+    out.max_thrust = out.max_thrust.max(c.out.thrust.to_f64_lossless().abs());
+    let vehicle = sys.vehicle;
+    let n = vehicle.actuator_count().min(8);
+    if n > 0 {
+        let mut buf = [S::<B>::lit(0.0); 8];
+        let w = vehicle.applied_wrench(
+            &Wrench {
+                thrust: c.out.thrust,
+                moment: c.out.moment,
+            },
+            sys.vehicle_states(y),
+        );
+        vehicle
+            .actuators_from_wrench(&w, &mut buf[..n])
+            .map_err(|e| SimError::Scene(e.to_string()))?;
+        out.max_rotor = buf[..n]
+            .iter()
+            .fold(out.max_rotor, |a, r| a.max(r.to_f64_lossless().abs()));
+    }
+    Ok(())
+}
+
 pub(crate) fn sample<B: Backend, const N: usize>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     t: f64,

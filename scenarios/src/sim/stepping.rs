@@ -17,7 +17,7 @@ use lie::{Backend, Real, S};
 
 use super::closed_loop::ClosedLoop;
 use super::events::{crossing, locate_condition, split_at_crossing};
-use super::record::{empty_sample, sample, track};
+use super::record::{empty_sample, sample, track, track_figures};
 use super::{Control, RunOptions, RunOutput, Sample, SimError, Simulation, SwitchRecord, Until};
 use crate::output::Sink;
 
@@ -150,9 +150,7 @@ fn track_state<B: Backend, const N: usize>(
     t: f64,
     y: &State<B, N>,
 ) -> Result<(), SimError> {
-    let s = sample(sys, t, y)?;
-    track(out, &s);
-    Ok(())
+    track_figures(out, sys, t, y)
 }
 
 pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
@@ -164,6 +162,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         mut progress,
         sink,
         cancel,
+        extrema,
     } = opts;
     let l = S::<B>::lit;
     let Simulation {
@@ -408,7 +407,9 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             if t < t_next {
                 // A checkpoint's own figures and sample come after what
                 // happens there (a switch, a new held command).
-                track_state(&mut out, &mut sys, t, &y)?;
+                if extrema {
+                    track_state(&mut out, &mut sys, t, &y)?;
+                }
                 emit.exact(&mut out, &mut sys, t, &y)?;
             }
             if let Some(p) = progress.as_deref_mut()
@@ -453,7 +454,9 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
         if changed {
             stepper.reset();
         }
-        track_state(&mut out, &mut sys, t, &y)?;
+        if extrema || t >= t_end {
+            track_state(&mut out, &mut sys, t, &y)?;
+        }
         if emit.due_at(t) {
             emit.exact(&mut out, &mut sys, t, &y)?;
         } else if t >= t_end {
