@@ -43,7 +43,7 @@ pub fn paper_flip() -> Scene {
             mode: Mode::Attitude,
             until: Some(0.4),
             until_psi: None,
-            attitude: Some(AttitudeRef::PaperFlip),
+            attitude: Some(AttitudeRef::PaperFlip {}),
             position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
             thrust: ThrustSpec::PdProjection,
         },

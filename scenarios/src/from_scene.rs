@@ -205,6 +205,7 @@ impl Registry {
             let text = std::fs::read_to_string(path).map_err(|e| SceneError {
                 message: format!("cannot read scene file `{name_or_path}`: {e}"),
                 location: None,
+                key: None,
             })?;
             return self.from_toml(&text, name_or_path);
         }
@@ -215,6 +216,7 @@ impl Registry {
                 names.join(", ")
             ),
             location: None,
+            key: None,
         })
     }
 

@@ -61,7 +61,7 @@ pub(crate) fn m<B: Backend>(a: M) -> So3Mat<B> {
 pub fn attitude_f64(r: &AttitudeRef, t: f64) -> (M, [f64; 3], [f64; 3]) {
     use std::f64::consts::PI;
     match r {
-        AttitudeRef::PaperFlip => {
+        AttitudeRef::PaperFlip {} => {
             // R_d = Rz(πt) Ry(4πt); Ω_d = π Ry(4πt)ᵀe3 + 4π e2,
             // Ω̇_d = −4π² e2 × Ry(4πt)ᵀe3.
             let ry = rot(1, 4.0 * PI * t);

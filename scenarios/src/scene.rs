@@ -149,6 +149,13 @@ pub struct VehicleSpec {
     pub mass: f64,
     /// Principal inertia diag(J), kg m².
     pub inertia: [f64; 3],
+    /// Accept principal moments that no rigid body has (one exceeding the
+    /// sum of the other two). The paper's J = diag(0.43, 0.43, 1.02)·10⁻²
+    /// is such a set (1.02 > 0.86), so the paper's scenes set this; in a
+    /// file it defaults to `false`, so that a typo such as `[1, 1, 3]` is
+    /// an error rather than a run that needs 155 N rotors.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_nonphysical_inertia: bool,
     /// Gravity, m/s².
     pub gravity: f64,
     /// Arm length d, m.
@@ -170,6 +177,7 @@ impl Default for VehicleSpec {
             kind: VehicleKind::Quadrotor,
             mass: 0.755,
             inertia: [0.43e-2, 0.43e-2, 1.02e-2],
+            allow_nonphysical_inertia: true,
             gravity: 9.81,
             arm: 0.169,
             c_tau_f: 0.0132,
@@ -323,8 +331,11 @@ pub enum ThrustSpec {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum AttitudeRef {
-    /// The paper's flip: R_d(t) = exp(π t e3^) exp(4π t e2^).
-    PaperFlip,
+    /// The paper's flip: R_d(t) = exp(π t e3^) exp(4π t e2^). A struct
+    /// variant with no fields, not a unit variant, so that an unknown key
+    /// beside `kind` is rejected (serde lets a unit variant of a tagged
+    /// enum ignore extra keys).
+    PaperFlip {},
     /// The paper's experiment: 3-2-1 Euler angles φ = a sin(ωt),
     /// θ = a cos(ωt), ψ = 0, R_d = R_y(θ) R_x(φ).
     EulerExperiment {
@@ -436,6 +447,11 @@ pub struct SceneError {
     pub message: String,
     /// `file:line:column` when known.
     pub location: Option<String>,
+    /// The key a validation error is about, dotted by table
+    /// (`integrator.kind`; in a segment, the key inside `[[plan]]`);
+    /// `None` for a TOML syntax or type error, which the location alone
+    /// places.
+    pub key: Option<String>,
 }
 
 impl std::fmt::Display for SceneError {
@@ -470,6 +486,7 @@ impl Scene {
             SceneError {
                 message: e.message().trim().to_string(),
                 location,
+                key: None,
             }
         })?;
         scene
@@ -478,6 +495,7 @@ impl Scene {
             .map_err(|(key, msg)| SceneError {
                 location: locate_error(text, key, &msg).map(|(l, c)| format!("{origin}:{l}:{c}")),
                 message: msg,
+                key: Some(key.to_string()),
             })?;
         Ok(scene)
     }
@@ -495,7 +513,7 @@ impl Scene {
             let mut names: Vec<&str> = VehicleKind::BUILT_IN.iter().map(|k| k.name()).collect();
             names.extend_from_slice(custom_kinds);
             return Err((
-                "kind",
+                "vehicle.kind",
                 format!(
                     "vehicle `kind` = \"{name}\": expected one of {} (a program can register \
                      its own kinds with scenarios::Registry)",
@@ -505,7 +523,7 @@ impl Scene {
         }
         if !matches!(self.vehicle.kind, VehicleKind::Custom(_)) && !self.vehicle.params.is_empty() {
             return Err((
-                "params",
+                "vehicle.params",
                 format!(
                     "`vehicle.params` is for registered kinds; the built-in `{}` takes none",
                     self.vehicle.kind.name()
@@ -541,47 +559,72 @@ impl Scene {
         }
         pos("duration", self.duration)?;
         let ve = &self.vehicle;
-        pos("mass", ve.mass)?;
+        pos("vehicle.mass", ve.mass)?;
         for j in ve.inertia {
-            pos("inertia", j)?;
+            pos("vehicle.inertia", j)?;
         }
-        nonneg("gravity", ve.gravity)?;
-        pos("arm", ve.arm)?;
-        nonneg("stand_height", ve.stand_height)?;
+        // Principal moments of a rigid body: each is at most the sum of
+        // the other two (J3 = ∫(x² + y²) ≤ ∫(y² + z²) + ∫(x² + z²)).
+        let [j1, j2, j3] = ve.inertia;
+        for (k, (a, b, c)) in [(j1, j2, j3), (j2, j1, j3), (j3, j1, j2)]
+            .into_iter()
+            .enumerate()
+        {
+            if a > (b + c) * (1.0 + 1e-12) && !ve.allow_nonphysical_inertia {
+                return Err((
+                    "vehicle.inertia",
+                    format!(
+                        "`vehicle.inertia` = {:?}: J{} = {a} exceeds the sum of the other two ({}); \
+                         no rigid body has these principal moments (set \
+                         `allow_nonphysical_inertia = true` to use them anyway, as the paper's \
+                         example does)",
+                        ve.inertia,
+                        k + 1,
+                        b + c
+                    ),
+                ));
+            }
+        }
+        nonneg("vehicle.gravity", ve.gravity)?;
+        pos("vehicle.arm", ve.arm)?;
+        nonneg("vehicle.stand_height", ve.stand_height)?;
         if !(ve.c_tau_f.is_finite() && ve.c_tau_f != 0.0) {
             return Err((
-                "c_tau_f",
-                format!("`c_tau_f` = {}: must be finite and non-zero", ve.c_tau_f),
+                "vehicle.c_tau_f",
+                format!(
+                    "`vehicle.c_tau_f` = {}: must be finite and non-zero",
+                    ve.c_tau_f
+                ),
             ));
         }
         if let Some(d) = &self.disturbance {
-            finite3("force", &d.force)?;
-            finite3("moment", &d.moment)?;
+            finite3("disturbance.force", &d.force)?;
+            finite3("disturbance.moment", &d.moment)?;
         }
         let i = &self.initial;
-        finite3("x", &i.x)?;
-        finite3("v", &i.v)?;
-        finite3("rotation", &i.rotation)?;
-        finite3("omega", &i.omega)?;
+        finite3("initial.x", &i.x)?;
+        finite3("initial.v", &i.v)?;
+        finite3("initial.rotation", &i.rotation)?;
+        finite3("initial.omega", &i.omega)?;
         let g = &self.gains;
         for (k, v) in [
-            ("k_x", g.k_x),
-            ("k_v", g.k_v),
-            ("k_r", g.k_r),
-            ("k_omega", g.k_omega),
-            ("sigma", g.sigma),
+            ("gains.k_x", g.k_x),
+            ("gains.k_v", g.k_v),
+            ("gains.k_r", g.k_r),
+            ("gains.k_omega", g.k_omega),
+            ("gains.sigma", g.sigma),
         ] {
             pos(k, v)?;
         }
         for (k, v) in [
-            ("k_i", g.k_i),
-            ("k_att_i", g.k_att_i),
-            ("c1", g.c1),
-            ("c2", g.c2),
+            ("gains.k_i", g.k_i),
+            ("gains.k_att_i", g.k_att_i),
+            ("gains.c1", g.c1),
+            ("gains.c2", g.c2),
         ] {
             nonneg(k, v)?;
         }
-        pos("dt", self.integrator.dt)?;
+        pos("integrator.dt", self.integrator.dt)?;
         if self
             .integrator
             .kind
@@ -589,20 +632,20 @@ impl Scene {
             .is_err()
         {
             return Err((
-                "kind",
+                "integrator.kind",
                 format!(
                     "integrator `kind` = \"{}\": expected one of lgvi, rk4, rk4-projected, rkmk4, euler, dopri",
                     self.integrator.kind
                 ),
             ));
         }
-        pos("tol", self.integrator.tol)?;
+        pos("integrator.tol", self.integrator.tol)?;
         // Checked even when unused (continuous control): a NaN in a file
         // is a mistake whatever the timing.
         if self.control.timing == Timing::Sampled {
             if !(self.control.rate.is_finite() && self.control.rate > 0.0) {
                 return Err((
-                    "rate",
+                    "control.rate",
                     format!(
                         "`rate` = {}: `timing = \"sampled\"` needs a controller rate > 0 (Hz) in [control]",
                         self.control.rate
@@ -610,9 +653,9 @@ impl Scene {
                 ));
             }
         } else {
-            nonneg("rate", self.control.rate)?;
+            nonneg("control.rate", self.control.rate)?;
         }
-        nonneg("sample", self.record.sample)?;
+        pos("record.sample", self.record.sample)?;
         let mut last = 0.0;
         for (k, seg) in self.plan.iter().enumerate() {
             let is_last = k + 1 == self.plan.len();
@@ -725,7 +768,7 @@ impl Scene {
                     num("frequency", *frequency)?;
                 }
                 Some(AttitudeRef::Hold { rotation }) => num3("rotation", rotation)?,
-                Some(AttitudeRef::PaperFlip) | None => {}
+                Some(AttitudeRef::PaperFlip {}) | None => {}
             }
             match &seg.position {
                 Some(PositionRef::Hold { x, b1d }) => {
@@ -795,26 +838,79 @@ fn locate_error(text: &str, key: &str, message: &str) -> Option<(usize, usize)> 
             return Some(locate_key(&body, key).map_or((start + 1, 1), |(l, c)| (start + l, c)));
         }
     }
-    locate_key(text, key).or_else(|| {
-        // The key is absent (its default failed a check that depends on
-        // another key): point at its table's header, else the file's start.
-        let table = match key {
-            "rate" | "timing" | "compensate_configuration_moment" => "control",
-            "dt" | "tol" | "locate_events" => "integrator",
-            "sample" => "record",
-            "force" | "moment" => "disturbance",
-            "mass" | "inertia" | "gravity" | "arm" | "c_tau_f" | "stand_height" | "params" => {
-                "vehicle"
+    Some(locate_dotted(text, key))
+}
+
+/// The name of a table header line (`[vehicle]`, `[ plan.position ]  # c`
+/// → `vehicle`, `plan.position`), `None` for other lines; arrays of tables
+/// (`[[plan]]`) keep one pair of brackets off.
+fn header_name(line: &str) -> Option<String> {
+    let t = line.split('#').next().unwrap_or_default().trim();
+    let inner = t.strip_prefix('[')?.strip_suffix(']')?;
+    let inner = inner
+        .strip_prefix('[')
+        .and_then(|i| i.strip_suffix(']'))
+        .unwrap_or(inner);
+    Some(
+        inner
+            .split('.')
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join("."),
+    )
+}
+
+/// Where `key` (`table.name`, or a top-level `name`) is set: `name =` in
+/// the `[table]` section (top-level keys: before the first header), else a
+/// table header naming the key itself (`[vehicle.params]`), else a dotted
+/// `table.name =` or an inline `table = { name = … }`, else the `[table]`
+/// header (the key is absent and its default failed a check), else the
+/// first `name =` anywhere, else the file's start.
+fn locate_dotted(text: &str, key: &str) -> (usize, usize) {
+    let (table, name) = key.rsplit_once('.').unwrap_or(("", key));
+    let lines: Vec<&str> = text.lines().collect();
+    let headers: Vec<(usize, String)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| header_name(l).map(|n| (i, n)))
+        .collect();
+    let section = if table.is_empty() {
+        Some(0)
+    } else {
+        headers.iter().find(|(_, n)| n == table).map(|(i, _)| i + 1)
+    };
+    if let Some(start) = section {
+        let end = headers
+            .iter()
+            .map(|(i, _)| *i)
+            .find(|&i| i >= start)
+            .unwrap_or(lines.len());
+        let body = lines[start..end].join("\n");
+        if let Some((l, c)) = locate_key(&body, name).filter(|(l, _)| *l <= end - start) {
+            return (start + l, c);
+        }
+    }
+    if let Some((i, _)) = headers.iter().find(|(_, n)| n == key) {
+        return (i + 1, 1);
+    }
+    if !table.is_empty() {
+        if let Some(p) = locate_key(text, key) {
+            return p;
+        }
+        let last = table.rsplit('.').next().unwrap_or(table);
+        for (i, l) in lines.iter().enumerate() {
+            if let Some((lhs, rhs)) = l.split_once('=')
+                && lhs.trim() == last
+                && rhs.contains(name)
+            {
+                return (i + 1, l.len() - l.trim_start().len() + 1);
             }
-            _ => "",
-        };
-        let header = format!("[{table}]");
-        Some(
-            text.lines()
-                .position(|l| !table.is_empty() && l.trim() == header)
-                .map_or((1, 1), |i| (i + 1, 1)),
-        )
-    })
+        }
+        if let Some(start) = section {
+            return (start, 1);
+        }
+    }
+    locate_key(text, name).unwrap_or((1, 1))
 }
 
 /// First `key =` in the text (the dotted context is in the message).

@@ -192,7 +192,7 @@ fn scene_files_name_registered_kinds_only() {
     let mut s = builtin::paper_flip();
     s.vehicle.params.insert("tau".into(), 0.1);
     let (key, msg) = s.check_kind(&[]).unwrap_err();
-    assert_eq!(key, "params");
+    assert_eq!(key, "vehicle.params");
     assert!(msg.contains("quadrotor"), "{msg}");
 }
 

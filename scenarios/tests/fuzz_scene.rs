@@ -260,6 +260,22 @@ fn check(text: &str) -> Result<(), TestCaseError> {
                     .is_some_and(|l| l.starts_with("fuzz.toml:")),
                 "rejection without a location: {e} for {text:?}"
             );
+            // A validation error points at its key: the reported line names
+            // it, or is a table header (the key's table, or the segment,
+            // when the key is absent), or the key is nowhere in the text.
+            if let (Some(key), Some(loc)) = (&e.key, &e.location) {
+                let name = key.rsplit('.').next().unwrap_or(key);
+                let line: usize = loc
+                    .split(':')
+                    .nth(1)
+                    .and_then(|l| l.parse().ok())
+                    .unwrap_or(0);
+                let at = text.lines().nth(line.saturating_sub(1)).unwrap_or_default();
+                prop_assert!(
+                    at.contains(name) || at.trim_start().starts_with('[') || !text.contains(name),
+                    "{e}: line {line} is {at:?}, not about `{key}`, in {text:?}"
+                );
+            }
         }
         Ok(mut scene) => {
             // Round trip: what we write we read back, equal.
@@ -448,7 +464,7 @@ fn found_nan_rate_under_continuous_control() {
     let text = flip_with("rate", "rate = nan");
     assert!(text.contains("timing = \"continuous\""));
     let (msg, line) = rejected_at(&text);
-    assert!(msg.contains("`rate` = NaN"), "{msg}");
+    assert!(msg.contains("rate` = NaN"), "{msg}");
     assert_eq!(line, line_of(&text, "rate = nan"));
 }
 

@@ -299,8 +299,9 @@ fn csv_has_the_fixed_header_and_round_trips_exactly() {
 #[test]
 fn warnings_are_a_metadata_record_in_the_mcap() {
     let mut scene = builtin::paper_flip();
-    scene.duration = 0.1;
+    scene.duration = 0.5; // past the switch at 0.4 s: no warning of its own
     let mut out = run(&scene, RunOptions::default()).unwrap();
+    assert!(out.warnings.is_empty(), "{:?}", out.warnings);
     out.warnings.push("R has left SO(3)".into());
     let dir = tmpdir("mcap-warnings");
     let path = dir.join("w.mcap");

@@ -35,8 +35,31 @@ fn unknown_key_names_key_and_position() {
 fn bad_values_name_key_value_and_position() {
     let text = "name = \"x\"\nduration = 1.0\n[integrator]\nkind = \"rk4\"\ndt = -0.5\n";
     let msg = Scene::from_toml(text, "bad.toml").unwrap_err().to_string();
-    assert!(msg.contains("`dt` = -0.5"), "{msg}");
+    assert!(msg.contains("`integrator.dt` = -0.5"), "{msg}");
     assert!(msg.starts_with("bad.toml:5:"), "{msg}");
+    // Keys are found in their own table: the integrator's `kind`, not the
+    // vehicle's above it (both are `kind = …` at the start of a line).
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/paper-flip.toml"
+    ))
+    .unwrap()
+    .replace("kind = \"rk4\"", "kind = \"rk5\"");
+    let line = 1 + text
+        .lines()
+        .position(|l| l.starts_with("kind = \"rk5\""))
+        .unwrap();
+    let msg = Scene::from_toml(&text, "copy.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.starts_with(&format!("copy.toml:{line}:")),
+        "{msg} (line {line})"
+    );
+    assert!(
+        line > 20,
+        "the integrator's table is not the first in the file"
+    );
     let text = "name = \"x\"\nduration = 1.0\n[integrator]\nkind = \"rk5\"\n";
     let msg = Scene::from_toml(text, "bad.toml").unwrap_err().to_string();
     assert!(
@@ -209,6 +232,10 @@ fn f32_dopri_reaches_the_scalar_floor_and_warns_below_it() {
 fn a_sample_grid_finer_than_dt_is_a_warning() {
     let mut s = builtin::paper_flip();
     s.duration = 0.1;
+    // The flip alone: its 0.4 s segment would outlast the run (a warning
+    // of its own).
+    s.plan.truncate(1);
+    s.plan[0].until = None;
     s.integrator.dt = 0.01;
     s.record.sample = 0.002;
     let out = scenarios::run(&s, Default::default()).unwrap();
@@ -230,4 +257,88 @@ fn a_sample_grid_finer_than_dt_is_a_warning() {
     s.integrator.dt = 0.002;
     let out = scenarios::run(&s, Default::default()).unwrap();
     assert!(out.warnings.is_empty(), "{:?}", out.warnings);
+}
+
+/// What a file may not say although TOML and the types allow it: principal
+/// moments no rigid body has, a zero sample interval, a key an attitude
+/// reference does not have. Each is an error at its line.
+#[test]
+fn impossible_or_meaningless_values_are_rejected_at_their_line() {
+    let flip = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/paper-flip.toml"
+    ))
+    .unwrap();
+    let line_of = |text: &str, start: &str| {
+        1 + text
+            .lines()
+            .position(|l| l.trim_start().starts_with(start))
+            .unwrap()
+    };
+    // J3 > J1 + J2 without the paper's explicit opt-in.
+    let text = flip
+        .replace(
+            "inertia = [0.43e-2, 0.43e-2, 1.02e-2]",
+            "inertia = [1.0, 1.0, 3.0]",
+        )
+        .replace("allow_nonphysical_inertia = true", "");
+    let e = Scene::from_toml(&text, "j.toml").unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("vehicle.inertia"));
+    assert!(
+        e.message.contains("J3 = 3") && e.message.contains("(2)"),
+        "{e}"
+    );
+    let line = line_of(&text, "inertia =");
+    assert!(e.to_string().starts_with(&format!("j.toml:{line}:")), "{e}");
+    // The paper's own J needs the opt-in too, and says so.
+    let text = flip.replace("allow_nonphysical_inertia = true", "");
+    let e = Scene::from_toml(&text, "j.toml").unwrap_err();
+    assert!(e.message.contains("allow_nonphysical_inertia"), "{e}");
+    // A physical body is fine without it.
+    let text = text.replace(
+        "inertia = [0.43e-2, 0.43e-2, 1.02e-2]",
+        "inertia = [0.6e-2, 0.6e-2, 1.02e-2]",
+    );
+    assert!(Scene::from_toml(&text, "j.toml").is_ok());
+    // sample = 0 (the command line refuses --sample 0 too).
+    let text = flip.replace("sample = 0.002", "sample = 0");
+    assert_ne!(text, flip);
+    let e = Scene::from_toml(&text, "s.toml").unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("record.sample"));
+    assert!(
+        e.to_string()
+            .starts_with(&format!("s.toml:{}:", line_of(&text, "sample ="))),
+        "{e}"
+    );
+    // An unknown key beside `kind = "paper-flip"`, as beside `kind = "hold"`.
+    let text = flip.replace(
+        "attitude = { kind = \"paper-flip\" }",
+        "attitude = { kind = \"paper-flip\", speed = 2.0 }",
+    );
+    assert_ne!(text, flip);
+    let e = Scene::from_toml(&text, "k.toml").unwrap_err();
+    assert!(e.message.contains("speed"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("k.toml:{}:", line_of(&text, "attitude ="))),
+        "{e}"
+    );
+}
+
+/// A segment that lasts past the end of the run leaves the next unused:
+/// the run says so (a shortened `duration` is legitimate, so it is a
+/// warning, not an error).
+#[test]
+fn a_segment_past_the_end_is_a_warning() {
+    let mut s = builtin::paper_flip();
+    s.plan[0].until = Some(10.0);
+    let out = run(&s, RunOptions::default()).unwrap();
+    assert_eq!(out.switches.len(), 0);
+    assert!(
+        out.warnings
+            .iter()
+            .any(|w| w.contains("segment 1 (position)") && w.contains("never run")),
+        "{:?}",
+        out.warnings
+    );
 }

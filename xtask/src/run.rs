@@ -19,33 +19,41 @@ pub struct RunArgs {
     /// List the built-in scenes and exit.
     #[arg(long)]
     pub list: bool,
-    /// Integrator: lgvi, rk4, rk4-projected, rkmk4, euler, dopri.
+    /// Integrator: lgvi, rk4, rk4-projected, rkmk4, euler, dopri [default:
+    /// the scene's; --print-scene shows every value a run would use].
     #[arg(long)]
     pub integrator: Option<String>,
-    /// Step size, s (dopri: longest call; it adapts inside).
-    #[arg(long)]
+    /// Step size, s (dopri: longest call; it adapts inside) [default: the
+    /// scene's].
+    #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// dopri tolerance.
-    #[arg(long)]
+    /// dopri tolerance [default: the scene's].
+    #[arg(long, allow_negative_numbers = true)]
     pub tol: Option<f64>,
-    /// f32 or f64.
+    /// f32 or f64 [default: the scene's].
     #[arg(long, value_parser = ["f32", "f64"])]
     pub scalar: Option<String>,
-    /// glam or nalgebra.
+    /// glam or nalgebra [default: the scene's].
     #[arg(long, value_parser = ["glam", "nalgebra"])]
     pub backend: Option<String>,
     /// Set k_I = k_i = 0.
     #[arg(long)]
     pub no_integral: bool,
-    /// Simulated time, s.
-    #[arg(long)]
+    /// Simulated time, s [default: the scene's].
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
-    /// Record interval, s.
-    #[arg(long)]
+    /// Record interval, s [default: the scene's]. Samples are taken
+    /// between steps; they never change the steps.
+    #[arg(long, allow_negative_numbers = true)]
     pub sample: Option<f64>,
-    /// Sampled control at this rate (Hz) instead of continuous.
-    #[arg(long)]
+    /// Sampled control at this rate (Hz) instead of continuous [default:
+    /// the scene's].
+    #[arg(long, allow_negative_numbers = true)]
     pub control_rate: Option<f64>,
+    /// Print the scene as TOML with the options above applied (every
+    /// value a run would use), and exit without running.
+    #[arg(long)]
+    pub print_scene: bool,
     /// Write the samples as CSV.
     #[arg(long)]
     pub csv: Option<PathBuf>,
@@ -416,6 +424,10 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         .as_deref()
         .ok_or("give a scene name or file (cargo xtask run --list shows the built-ins)")?;
     let scene = apply(scenarios::load(name).map_err(|e| e.to_string())?, &a)?;
+    if a.print_scene {
+        print!("{}", scene.to_toml());
+        return Ok(0);
+    }
     let scene_file = Path::new(name);
     check_outputs(
         a.csv.as_deref(),

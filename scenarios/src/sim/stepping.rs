@@ -257,6 +257,27 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             1.0 / ctrl
         ));
     }
+    // A segment that ends at or after the end of the run leaves the ones
+    // after it unused: say so (a `duration` shortened on purpose is fine,
+    // but a typo in `until` would otherwise show only as "0 switches").
+    if let Some(k) = sys
+        .plan
+        .iter()
+        .position(|s| matches!(s.until, Until::Time(u) if u >= t_end))
+        && k + 1 < sys.plan.len()
+    {
+        let u = match sys.plan[k].until {
+            Until::Time(u) => u,
+            _ => t_end,
+        };
+        out.warnings.push(format!(
+            "segment {k} ({}) lasts until {u} s, not before the end of the run at {t_end} s: \
+             segment {} ({}) and any after it never run",
+            sys.plan[k].mode.name(),
+            k + 1,
+            sys.plan[k + 1].mode.name()
+        ));
+    }
     let start = Instant::now();
     let mut t = 0.0f64;
     if sampled {
