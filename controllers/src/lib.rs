@@ -1,6 +1,7 @@
 //! The geometric nonlinear PID controllers of Goodarzi, Lee & Lee,
 //! "Geometric Nonlinear PID Control of a Quadrotor UAV on SE(3)"
-//! (`../shared/paper/geometric-pid-se3.tex`; equation labels are cited as
+//! (Goodarzi, Lee & Lee, "Geometric Nonlinear PID Control of a Quadrotor
+//! UAV on SE(3)"; equation labels are cited as
 //! `(eqn:…)`).
 //!
 //! This crate owns the control laws — attitude mode (eqn:aM, eqn:eI),

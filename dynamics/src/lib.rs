@@ -1,6 +1,6 @@
 //! Rigid-body vehicles for the geometric PID framework.
 //!
-//! Conventions are the paper's (see `DESIGN.md`): the inertial `e3` points
+//! Conventions are the paper's: the inertial `e3` points
 //! **down**, `R` maps body to inertial vectors, `Ω` is in the body frame, the
 //! velocity `v` is inertial, and the total thrust `f` acts along `−R e3`:
 //!

@@ -21,7 +21,7 @@ pub struct RotorLimits<B: Backend> {
 /// `+b2`, `−b1`, `−b2` at arm length `d`, alternating spin directions with
 /// reaction-torque coefficient `c_τf`, fixed disturbances `Δ_x`, `Δ_R`.
 ///
-/// Allocation, rotor thrusts `f1..f4` to `(f, M1, M2, M3)` (DESIGN.md):
+/// Allocation, rotor thrusts `f1..f4` to `(f, M1, M2, M3)` (the paper's allocation):
 /// ```text
 /// [ 1    1    1    1  ]
 /// [ 0   −d    0    d  ]

@@ -37,7 +37,7 @@ fn allocation_determinant_and_inverse() {
     let q = Quadrotor::<B>::paper();
     let (d, c) = (q.arm(), q.c_tau_f());
     let det = det4(q.allocation());
-    // DESIGN.md: det = 8 c d²; the sign depends on row order, the size not.
+    // det = 8 c d² (the allocation's determinant); the sign depends on row order, the size not.
     assert!((det.abs() - 8.0 * c * d * d).abs() < 1e-15, "det {det}");
     let mut rng = 0x1234_5678_u64;
     let mut next = || {

@@ -206,7 +206,7 @@ fn lgvi_end_load_stops_below_the_truncation_error() {
 }
 
 /// Harness-less so that a plain `cargo test` prints the fitted orders
-/// (issue 3 asks for them in the output); a failed fit panics, which fails
+/// (they are part of what the tests report); a failed fit panics, which fails
 /// the test binary.
 fn main() {
     closed_loop_orders_with_continuous_control();

@@ -129,7 +129,7 @@ fn heavy_top_orders_against_a_tight_reference() {
 }
 
 /// Harness-less so that a plain `cargo test` prints the fitted orders
-/// (issue 3 asks for them in the output); a failed fit panics, which fails
+/// (they are part of what the tests report); a failed fit panics, which fails
 /// the test binary.
 fn main() {
     free_rigid_body_orders_against_the_exact_solution();

@@ -90,7 +90,7 @@ pub fn se3_group_and_exp_log<B: Backend, R: Rotation<B>>() {
         w_ax < 64.0 * e && w_series < 64.0 * e && w_v < 64.0 * e,
         "{w_ax:e} {w_series:e} {w_v:e}"
     );
-    // The round-trip figures for SO(3) (1e-12 in f64, 2e-6 in f32),
+    // The project's round-trip targets for SO(3) (1e-12 in f64, 2e-6 in f32),
     // relative to the twist's size since J_l⁻¹ scales errors by |ρ|.
     let tol_rt = if is_f64::<B>() { 1e-12 } else { 2e-6 };
     assert!(w_rt < tol_rt, "{w_rt:e}");
@@ -211,7 +211,7 @@ fn f32_against_f64<B32: Backend, B64: Backend, R32: Rotation<B32>, R64: Rotation
         w[6]
     );
     // f32 rounding (6e-8) through a handful of operations: ~16 ε of f32;
-    // the log gets the 2e-6 rad.
+    // the log gets the f32 target of 2e-6 rad.
     let bounds = [2e-6, 2e-6, 2e-6, 2e-6, 2e-6, 2e-6, 2e-6];
     for (k, (wk, bk)) in w.iter().zip(bounds).enumerate() {
         assert!(wk <= &bk, "quantity {k}: {wk:e} > {bk:e}");

@@ -2,7 +2,7 @@
 //! scalar) pairs and both representations (rotation matrix, unit
 //! quaternion). Run with `--nocapture` to see the worst errors measured.
 //!
-//! Tolerances are in units of the scalar's ε (`e` below) unless the issue
+//! Tolerances are in units of the scalar's ε (`e` below) unless the project
 //! fixes an absolute figure (the log∘exp round trip: 1e-12 in f64, 2e-6 in
 //! f32). Each says why it is that size.
 

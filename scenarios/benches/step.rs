@@ -303,7 +303,7 @@ fn bench(c: &mut Criterion) {
         dd < 1e-9,
         "the direct loop differs from the generic one by {dd}"
     );
-    // The whole-run figure: paper-flip (4 s) by RK4 at h = 1 ms,
+    // The whole-run figure the README quotes: paper-flip (4 s) by RK4 at h = 1 ms,
     // a sample kept every 0.05 s, on every pair; its final-state error
     // against Dormand–Prince at 1e-12 in f64 is printed first (and must
     // stay at the 1.1e-8 the regression suite knows, to rounding).

@@ -26,7 +26,7 @@ fn hold(x: [f64; 3], b1d: [f64; 3]) -> PositionRef {
     PositionRef::Hold { x, b1d }
 }
 
-/// The paper's numerical example (DESIGN.md): Δ_x, Δ_R from t = 0; attitude
+/// The paper's numerical example (its Section V): Δ_x, Δ_R from t = 0; attitude
 /// mode to 0.4 s flipping about b2 while the heading turns 90°, thrust from
 /// the position-PD projection towards x_d = 0; then position mode to 4 s
 /// with x_d = 0, b1d = e2. e_I integrates from 0 and carries across the

@@ -1,5 +1,5 @@
 //! `cargo xtask conservation [--steps N]`: the free-body invariant table of
-//! issue 3 — final |ΔE/E| and ‖RᵀR − I‖ after 10⁵ and N (default 10⁶) steps
+//! final |ΔE/E| and ‖RᵀR − I‖ after 10⁵ and N (default 10⁶) steps
 //! at h = 0.01, every stepper, f32 and f64.
 
 use integrators::problems::{InvariantTrace, free_body_invariants};

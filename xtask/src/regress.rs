@@ -194,7 +194,7 @@ fn paper_flip(t: &mut Table) -> Result<(), String> {
     fine.integrator.dt = 1e-4;
     let fine = run(&fine)?;
     let (dx, dv, dr, cnt) = max_difference(&fine.samples, &reference.samples);
-    const WHY_FINE: &str = "issue 5 asks for 1e-6; with the sat′ events located (and the branch forced on each side) both are smooth per piece and agree to ~1e-11";
+    const WHY_FINE: &str = "the paper-flip check asks 1e-6; with the sat′ events located (and the branch forced on each side) both are smooth per piece and agree to ~1e-11";
     t.below(
         &n,
         &format!("rk4 h=1e-4 vs dopri 1e-12: max|Δx| ({cnt} samples)"),
@@ -209,7 +209,7 @@ fn paper_flip(t: &mut Table) -> Result<(), String> {
     blind.integrator.locate_events = false;
     let blind = run(&blind)?;
     let (_, _, dr_blind, _) = max_difference(&blind.samples, &reference.samples);
-    t.close(&n, &format!("log10 max|ΔR| without event location (max|ΔR| = {dr_blind:.1e})"), dr_blind.log10().round(), -6.0, 1.0, "DESIGN.md: stepping across the sat′ jump at h = 1e-4 limits the agreement to ~1e-5…1e-6 (order of magnitude checked)");
+    t.close(&n, &format!("log10 max|ΔR| without event location (max|ΔR| = {dr_blind:.1e})"), dr_blind.log10().round(), -6.0, 1.0, "stepping across the sat′ jump at h = 1e-4 limits the agreement to ~1e-5…1e-6 (order of magnitude checked)");
     let (dx, _, dr, _) = max_difference(&def.samples, &reference.samples);
     const WHY_DEF: &str = "default step 5e-4: rk4 error (5e-4/1e-4)⁴ = 625× the fine run's; measured 1.4e-9, bound with margin";
     t.below(
@@ -252,7 +252,7 @@ fn paper_flip(t: &mut Table) -> Result<(), String> {
         def.switches.first().map_or(f64::NAN, |s| s.t),
         0.4,
         0.0,
-        "the run lands exactly on the switch at 0.4 s (DESIGN.md plan)",
+        "the run lands exactly on the switch at 0.4 s (a time switch is a checkpoint)",
     );
     t.close(
         &n,
@@ -269,7 +269,7 @@ fn paper_flip(t: &mut Table) -> Result<(), String> {
         norm(at_switch.e_pos),
         0.0,
         0.0,
-        "e_i starts at zero on entering position mode (issue 5)",
+        "e_i starts at zero on entering position mode (PositionMode::enter)",
     );
     t.below(
         &n,
@@ -312,8 +312,8 @@ fn no_integral(t: &mut Table) -> Result<(), String> {
     t.below(&n, "rk4 vs dopri: max|Δx|", dx, 1e-7, why);
     t.below(&n, "rk4 vs dopri: max|ΔR|", dr, 1e-7, why);
     // The closed-form steady state needs an unbiased Ω_c model. With Δ_x ≠ 0
-    // and no integral, the nominal model predicts −Δ_x/m at rest (issue 4's
-    // finding), so the paper's scene settles elsewhere; remove Δ_x (keep
+    // and no integral, the nominal model predicts −Δ_x/m at rest, so the
+    // paper's scene settles elsewhere; remove Δ_x (keep
     // Δ_R) and the static balance must hold exactly.
     let mut v = s.clone();
     v.name = format!("{n} (Δ_x = 0)");
@@ -387,7 +387,7 @@ fn attitude_experiment(t: &mut Table) -> Result<(), String> {
         "rk4 h=1e-3 vs dopri 1e-12: max|ΔR|",
         dr,
         1e-6,
-        "smooth reference, rk4 O(h⁴) ≈ 1e-9 here; 1e-6 is the issue's agreement level",
+        "smooth reference, rk4 O(h⁴) ≈ 1e-9 here; 1e-6 is the agreement the paper's figures need",
     );
     t.below(
         &n,
@@ -523,7 +523,7 @@ fn free_body(t: &mut Table) -> Result<(), String> {
         "lgvi max |ΔE/E| over 100 s (10⁴ steps)",
         drift,
         1e-12,
-        "Moser–Veselov conserves E exactly; rounding floor measured 2e-14 per 1e5 steps (issue 3)",
+        "Moser–Veselov conserves E exactly; rounding floor measured 2e-14 per 1e5 steps",
     );
     let exact = dynamics::free_body::ExactFreeBody::new(
         s.vehicle.inertia,
@@ -542,7 +542,7 @@ fn free_body(t: &mut Table) -> Result<(), String> {
             err = err.max((l.r[i][j] - r_ex[i][j]).abs());
         }
     }
-    t.below(&n, "dopri 1e-12 vs exact solution at 100 s", err, 1e-9, "global error of a tol-1e-12 run grows ~linearly: 1.2e-11 at 10 s measured (issue 3), ×10 time ×~8 margin");
+    t.below(&n, "dopri 1e-12 vs exact solution at 100 s", err, 1e-9, "global error of a tol-1e-12 run grows ~linearly: 1.2e-11 at 10 s measured, ×10 time ×~8 margin");
     Ok(())
 }
 
@@ -586,7 +586,7 @@ fn figure_eight(t: &mut Table) -> Result<(), String> {
     log_mcap(&s, &out)?;
     let reference = dopri(&s)?;
     let (dx, dv, dr, _) = max_difference(&out.samples, &reference.samples);
-    let why = "rk4 at 1e-3 vs dopri 1e-12 with located events; the issue's 1e-6 agreement level";
+    let why = "rk4 at 1e-3 vs dopri 1e-12 with located events; 1e-6, the agreement the paper's figures need";
     t.below(&n, "rk4 vs dopri: max|Δx|", dx, 1e-6, why);
     t.below(&n, "rk4 vs dopri: max|Δv|", dv, 1e-6, why);
     t.below(&n, "rk4 vs dopri: max|ΔR|", dr, 1e-6, why);

@@ -1,4 +1,4 @@
-//! `cargo xtask sweep [scene]`: run time against error (DESIGN.md, "what
+//! `cargo xtask sweep [scene]`: run time against error ("what
 //! fast and accurate is measured by"). Every stepper over a range of step
 //! sizes (dopri over tolerances) on the same scene; the error is the largest
 //! difference in x and R over a 0.1 s sample grid against Dormand–Prince at
