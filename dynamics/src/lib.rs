@@ -351,13 +351,25 @@ pub fn check_inertia<B: Backend>(j: M3<B>) -> Result<(), DynamicsError> {
     let m1 = e[0][0];
     let m2 = e[0][0] * e[1][1] - e[0][1] * e[1][0];
     let m3 = ops::det::<B>(j);
-    for (minor, name) in [(m1, "J11"), (m2, "2×2 leading minor"), (m3, "det J")] {
+    for (minor, expected) in [
+        (
+            m1,
+            "a positive-definite matrix (this is J11, which must be > 0)",
+        ),
+        (
+            m2,
+            "a positive-definite matrix (this is the leading 2×2 minor J11·J22 − J12·J21, which must be > 0)",
+        ),
+        (
+            m3,
+            "a positive-definite matrix (this is det J, which must be > 0)",
+        ),
+    ] {
         if minor <= S::<B>::zero() {
-            let _ = name;
             return Err(DynamicsError::InvalidParameter {
                 field: "inertia",
                 value: minor.to_f64_lossless(),
-                expected: "a positive-definite matrix (a leading minor is ≤ 0)",
+                expected,
             });
         }
     }

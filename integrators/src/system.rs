@@ -88,9 +88,11 @@ pub trait System<B: Backend, const N: usize> {
     /// Inertia, body frame.
     fn inertia(&self) -> M3<B>;
     /// `J⁻¹`; override to return a cached value (the default inverts
-    /// `inertia()` on every call).
+    /// `inertia()` on every call). A singular inertia has no inverse: the
+    /// default returns NaN, so the first step fails with a non-finite state
+    /// instead of integrating with a made-up inertia.
     fn inertia_inv(&self) -> M3<B> {
-        ops::inverse::<B>(self.inertia()).unwrap_or_else(ops::identity::<B>)
+        inverse_or_nan::<B>(self.inertia())
     }
     /// Whether `x` and `v` are integrated.
     fn translates(&self) -> bool {
@@ -106,6 +108,14 @@ pub trait System<B: Backend, const N: usize> {
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N>;
 }
 
+/// `m⁻¹`, or all NaN for a singular `m` (see [`System::inertia_inv`]).
+pub(crate) fn inverse_or_nan<B: Backend>(m: M3<B>) -> M3<B> {
+    ops::inverse::<B>(m).unwrap_or_else(|| {
+        let nan = <S<B> as lie::num_traits::Float>::nan();
+        ops::diag::<B>(nan, nan, nan) * nan
+    })
+}
+
 /// A vehicle under a fixed commanded wrench (zero for an unactuated body):
 /// the open-loop [`System`] with no extra states.
 pub struct OpenLoop<'a, B: Backend> {
@@ -117,15 +127,17 @@ pub struct OpenLoop<'a, B: Backend> {
 }
 
 impl<'a, B: Backend> OpenLoop<'a, B> {
-    /// `vehicle` with wrench `wrench`. The inertia was validated when the
-    /// vehicle was built, so its inverse exists.
+    /// `vehicle` with wrench `wrench`. The built-in vehicles validate
+    /// their inertia when built ([`dynamics::check_inertia`]); a singular
+    /// one of a user's vehicle gives a NaN inverse, so the first step fails
+    /// with a non-finite state rather than integrating a wrong body.
     pub fn new(vehicle: &'a dyn Vehicle<B>, wrench: Wrench<B>) -> Self {
         let inertia = vehicle.inertia();
         Self {
             vehicle,
             wrench,
             inertia,
-            inertia_inv: ops::inverse::<B>(inertia).unwrap_or_else(ops::identity::<B>),
+            inertia_inv: inverse_or_nan::<B>(inertia),
         }
     }
 }

@@ -115,6 +115,13 @@ pub enum LieError {
         /// The determinant met during the iteration.
         det: f64,
     },
+    /// The polar iteration did not settle within its iteration cap (it
+    /// converges quadratically, so this means a matrix so far from
+    /// orthogonal, or so badly scaled, that its projection is meaningless).
+    NotConverged {
+        /// The last Newton step's size, ‖X_{k+1} − X_k‖_F.
+        step: f64,
+    },
 }
 
 impl core::fmt::Display for LieError {
@@ -124,6 +131,10 @@ impl core::fmt::Display for LieError {
             LieError::NotProjectable { det } => write!(
                 f,
                 "matrix cannot be projected onto SO(3): determinant {det} is not positive"
+            ),
+            LieError::NotConverged { step } => write!(
+                f,
+                "projection onto SO(3) did not converge: last step {step:e} after the iteration cap"
             ),
         }
     }

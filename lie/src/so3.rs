@@ -110,8 +110,9 @@ impl<B: Backend> So3Mat<B> {
     /// `X⁻ᵀ` from cross products of the columns; it converges quadratically
     /// (two or three iterations for a matrix that drifted from orthogonality
     /// by integration) and needs no SVD, so it is `no_std` and allocation
-    /// free. Fails on non-finite input and when `det m ≤ 0`, where the nearest
-    /// orthogonal matrix is a reflection, not a rotation.
+    /// free. Fails on non-finite input, when `det m ≤ 0`, where the nearest
+    /// orthogonal matrix is a reflection, not a rotation, and when the
+    /// iteration has not settled after 30 steps.
     pub fn project(m: M3<B>) -> Result<Self, LieError> {
         if !ops::is_finite_mat::<B>(m) {
             return Err(LieError::NonFinite {
@@ -121,6 +122,7 @@ impl<B: Backend> So3Mat<B> {
         let half = S::<B>::lit(0.5);
         let tol = S::<B>::epsilon() * S::<B>::lit(8.0);
         let mut x = m;
+        let mut step = S::<B>::infinity();
         for _ in 0..30 {
             let [c0, c1, c2] = B::mat3_cols(x);
             let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
@@ -134,13 +136,15 @@ impl<B: Backend> So3Mat<B> {
             let inv_t = cof * (S::<B>::one() / det);
             let gamma = (ops::frob_norm::<B>(inv_t) / ops::frob_norm::<B>(x)).sqrt();
             let next = (x * gamma + inv_t * (S::<B>::one() / gamma)) * half;
-            let step = ops::frob_norm::<B>(next - x);
+            step = ops::frob_norm::<B>(next - x);
             x = next;
             if step <= tol {
                 return Ok(Self(x));
             }
         }
-        Ok(Self(x))
+        Err(LieError::NotConverged {
+            step: step.to_f64_lossless(),
+        })
     }
 
     /// One Newton–Schulz step `R(3I − RᵀR)/2`: the cheap re-orthonormalisation
@@ -245,9 +249,16 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     fn body_axis(self, k: usize) -> V3<B> {
         B::mat3_cols(self.0)[k]
     }
+    /// The polar projection ([`So3Mat::project`]); where it fails
+    /// (non-finite entries, `det ≤ 0`, no convergence) the result is all
+    /// NaN, so the failure shows at the next finiteness check instead of
+    /// passing as a rotation. Call `project` to handle the error.
     #[inline]
     fn normalized(self) -> Self {
-        Self::project(self.0).unwrap_or(self)
+        Self::project(self.0).unwrap_or_else(|_| {
+            let nan = S::<B>::nan();
+            Self(ops::diag::<B>(nan, nan, nan) * nan)
+        })
     }
 }
 

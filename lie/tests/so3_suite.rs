@@ -439,6 +439,11 @@ pub fn projection_onto_group<B: Backend, R: Rotation<B>>() {
         lie::So3Mat::<B>::project(reflection),
         Err(lie::LieError::NotProjectable { .. })
     ));
+    // `normalized` cannot fail: where the projection does, it returns NaN
+    // (caught by the next finiteness check), never the input as if it
+    // were a rotation.
+    let n = lie::So3Mat::<B>::from_matrix_unchecked(reflection).normalized();
+    assert!(m64::<B>(n.matrix()).iter().flatten().all(|x| x.is_nan()));
     let nan = mb::<B>([[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     assert!(matches!(
         lie::So3Mat::<B>::project(nan),

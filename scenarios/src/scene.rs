@@ -501,8 +501,13 @@ impl Scene {
     }
 
     /// Serialises to TOML (the inverse of [`Scene::from_toml`]).
+    ///
+    /// Infallible: every field is a number, string, bool, array or a map
+    /// with string keys, which TOML always represents (NaN and ±∞ as
+    /// `nan`/`inf`); the tests serialise every built-in scene, non-finite
+    /// values and registered-kind parameters.
     pub fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_default()
+        toml::to_string(self).expect("a Scene has only types TOML represents")
     }
 
     /// Checks that the vehicle kind is a built-in or one of `custom_kinds`.
