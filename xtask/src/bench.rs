@@ -345,18 +345,12 @@ fn best_per_accuracy(wp: &[(String, &str, Point)]) {
 }
 
 fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> {
+    use crate::figure;
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    let root = SVGBackend::new(path, (1200, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let shown = (1340, 900);
+    let (root, side) = figure::canvas(path, shown, 140)?;
     let panels = root.split_evenly((2, 2));
-    let colors = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(148, 103, 189),
-        RGBColor(255, 127, 14),
-        RGBColor(0, 0, 0),
-    ];
+    let colors = figure::COLORS;
     let kinds = ["euler", "lgvi", "rk4", "rk4-projected", "rkmk4", "dopri"];
     let floor = 1e-16;
     for (i, (scene, scalar)) in [
@@ -384,18 +378,21 @@ fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> 
             (a.min(y), b.max(y))
         });
         let mut c = ChartBuilder::on(&panels[i])
-            .caption(
-                format!("{scene}, {scalar} (solid nalgebra, dashed glam)"),
-                ("sans-serif", 16),
-            )
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(45)
+            .caption(format!("{scene}, {scalar}"), figure::font(16))
+            .margin(figure::px(8))
+            .x_label_area_size(figure::px(36))
+            .y_label_area_size(figure::px(56))
             .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
             .map_err(|e| err(&e))?;
         c.configure_mesh()
-            .x_desc("log10 wall time [s]")
-            .y_desc("log10 max error")
+            .x_desc("wall time [s], log scale")
+            .y_desc("max error [m, rad], log scale")
+            .x_label_formatter(&figure::decade)
+            .y_label_formatter(&figure::decade)
+            .label_style(figure::font(11))
+            .axis_desc_style(figure::font(12))
+            .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.1))
             .draw()
             .map_err(|e| err(&e))?;
         for (k, kind) in kinds.iter().enumerate() {
@@ -409,29 +406,52 @@ fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> 
                 if line.is_empty() {
                     continue;
                 }
-                let style = ShapeStyle::from(col).stroke_width(2);
+                let style = figure::line(col, 2);
                 if backend == "nalgebra" {
                     c.draw_series(LineSeries::new(line.clone(), style))
-                        .map_err(|e| err(&e))?
-                        .label(kind.to_string())
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], col));
-                } else {
-                    c.draw_series(DashedLineSeries::new(line.clone(), 6, 4, style))
                         .map_err(|e| err(&e))?;
-                }
-                c.draw_series(line.into_iter().map(|p| Circle::new(p, 2, col.filled())))
+                } else {
+                    let (d, g) = figure::DASHES[1];
+                    c.draw_series(DashedLineSeries::new(
+                        line.clone(),
+                        figure::px(d),
+                        figure::px(g),
+                        style,
+                    ))
                     .map_err(|e| err(&e))?;
+                }
+                c.draw_series(
+                    line.into_iter()
+                        .map(|p| Circle::new(p, figure::px(2), col.filled())),
+                )
+                .map_err(|e| err(&e))?;
             }
         }
-        c.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| err(&e))?;
     }
-    root.present().map_err(|e| err(&e))?;
-    Ok(())
+    let mut entries: Vec<figure::Entry> = kinds
+        .iter()
+        .enumerate()
+        .map(|(k, kind)| figure::Entry {
+            label: kind.to_string(),
+            color: colors[k % colors.len()],
+            dash: 0,
+            dots: true,
+            line: true,
+        })
+        .collect();
+    for (label, dash) in [("nalgebra", 0), ("glam", 1)] {
+        entries.push(figure::Entry {
+            label: label.into(),
+            color: BLACK,
+            dash,
+            dots: false,
+            line: true,
+        });
+    }
+    figure::legend(&side, &entries, 40)?;
+    drop(panels);
+    drop(side);
+    figure::finish(root, path, shown)
 }
 
 fn write_mcap(

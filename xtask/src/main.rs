@@ -27,6 +27,7 @@
 
 mod bench;
 mod conservation;
+mod figure;
 mod gains;
 mod montecarlo;
 mod plot;

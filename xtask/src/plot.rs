@@ -6,15 +6,15 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 use scenarios::{RunOutput, Scene};
 
-type Series = (String, Vec<(f64, f64)>, RGBColor, bool);
+use crate::figure;
 
-const COLORS: [RGBColor; 4] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-];
+/// A curve: label, points, colour, dash pattern (0 solid; see
+/// [`figure::DASHES`]).
+type Series = (String, Vec<(f64, f64)>, RGBColor, usize);
 
+const COLORS: [RGBColor; 6] = figure::COLORS;
+
+/// A time plot of `series` with the legend beside it.
 fn chart(path: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<(), String> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut t0, mut t1) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -30,37 +30,51 @@ fn chart(path: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<()
         return Err(format!("{}: nothing to plot", path.display()));
     }
     let pad = ((hi - lo) * 0.05).max(1e-9);
-    let root = SVGBackend::new(path, (720, 420)).into_drawing_area();
+    let shown = (845, 420);
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut c = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
+    let (plot, side) = figure::canvas(path, shown, 135)?;
+    let mut c = ChartBuilder::on(&plot)
+        .caption(title, figure::font(17))
+        .margin(figure::px(10))
+        .x_label_area_size(figure::px(40))
+        .y_label_area_size(figure::px(64))
         .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
         .map_err(|e| err(&e))?;
     c.configure_mesh()
         .x_desc("t [s]")
         .y_desc(ylabel)
+        .x_label_formatter(&figure::tick)
+        .y_label_formatter(&figure::tick)
+        .label_style(figure::font(12))
+        .axis_desc_style(figure::font(14))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.1))
         .draw()
         .map_err(|e| err(&e))?;
-    for (name, pts, color, dashed) in series {
-        let style = ShapeStyle::from(color).stroke_width(if *dashed { 1 } else { 2 });
-        let s = c
-            .draw_series(LineSeries::new(pts.iter().copied(), style))
-            .map_err(|e| err(&e))?;
-        let col = *color;
-        s.label(name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], col));
+    let mut entries = Vec::new();
+    for (name, pts, color, dash) in series {
+        let style = figure::line(*color, 2);
+        if *dash > 0 {
+            let (len, gap) = figure::DASHES[*dash % figure::DASHES.len()];
+            let (len, gap) = (figure::px(len), figure::px(gap));
+            c.draw_series(DashedLineSeries::new(pts.iter().copied(), len, gap, style))
+                .map_err(|e| err(&e))?;
+        } else {
+            c.draw_series(LineSeries::new(pts.iter().copied(), style))
+                .map_err(|e| err(&e))?;
+        }
+        entries.push(figure::Entry {
+            label: name.clone(),
+            color: *color,
+            dash: *dash,
+            dots: false,
+            line: true,
+        });
     }
-    c.configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))?;
-    Ok(())
+    figure::legend(&side, &entries, 40)?;
+    drop(c);
+    drop(side);
+    figure::finish(plot, path, shown)
 }
 
 /// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg` into `dir`.
@@ -73,12 +87,12 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
     chart(
         &p,
         &format!("{name}: attitude error Ψ"),
-        "Ψ",
+        "Ψ [dimensionless]",
         &[(
             "Ψ".into(),
             s.iter().map(|x| (x.t, x.psi)).collect(),
             COLORS[0],
-            false,
+            0,
         )],
     )?;
     written.push(p);
@@ -89,20 +103,20 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
                 format!("x{}", k + 1),
                 s.iter().map(|x| (x.t, x.x[k])).collect(),
                 COLORS[k],
-                false,
+                0,
             ));
             series.push((
-                format!("x{}d", k + 1),
+                format!("x{}d (desired)", k + 1),
                 s.iter().map(|x| (x.t, x.xd[k])).collect(),
                 COLORS[k],
-                true,
+                k + 1,
             ));
         }
         let p = dir.join("position.svg");
         chart(
             &p,
-            &format!("{name}: position x (thick) and x_d (thin), e3 down"),
-            "m",
+            &format!("{name}: position x (solid), x_d (dashed); e3 down"),
+            "x [m]",
             &series,
         )?;
         written.push(p);
@@ -113,20 +127,20 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
             format!("Ω{}", k + 1),
             s.iter().map(|x| (x.t, x.omega[k])).collect(),
             COLORS[k],
-            false,
+            0,
         ));
         series.push((
-            format!("Ω{}d", k + 1),
+            format!("Ω{}d (desired)", k + 1),
             s.iter().map(|x| (x.t, x.omega_d[k])).collect(),
             COLORS[k],
-            true,
+            k + 1,
         ));
     }
     let p = dir.join("omega.svg");
     chart(
         &p,
-        &format!("{name}: Ω (thick) and Ω_d / Ω_c (thin)"),
-        "rad/s",
+        &format!("{name}: Ω (solid), Ω_d or Ω_c (dashed)"),
+        "Ω [rad/s]",
         &series,
     )?;
     written.push(p);
@@ -137,8 +151,8 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
                 (
                     format!("f{}", k + 1),
                     s.iter().map(|x| (x.t, x.rotors[k])).collect(),
-                    COLORS[k % 4],
-                    k >= 4,
+                    COLORS[k % COLORS.len()],
+                    0,
                 )
             })
             .collect();
@@ -146,7 +160,7 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
         chart(
             &p,
             &format!("{name}: rotor thrusts (allocation inverse)"),
-            "N",
+            "rotor thrust [N]",
             &series,
         )?;
         written.push(p);
@@ -167,33 +181,64 @@ pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(),
         .collect();
     let t_max = t.iter().copied().fold(0.0, f64::max).max(1e-3) * 1.05;
     let path = dir.join("angle_vs_time.svg");
+    let shown = (860, 460);
     {
-        let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| err(&path, &e))?;
-        let mut c = ChartBuilder::on(&root)
+        let (plot, side) = figure::canvas(&path, shown, 140)?;
+        let mut c = ChartBuilder::on(&plot)
             .caption(
                 "Monte Carlo: initial angle from R_d vs time to converge",
-                ("sans-serif", 18),
+                figure::font(17),
             )
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(60)
+            .margin(figure::px(12))
+            .x_label_area_size(figure::px(40))
+            .y_label_area_size(figure::px(64))
             .build_cartesian_2d(0.0..180.0, 0.0..t_max)
             .map_err(|e| err(&path, &e))?;
         c.configure_mesh()
             .x_desc("initial angle [deg]")
             .y_desc("time to converge [s]")
+            .x_label_formatter(&figure::tick)
+            .y_label_formatter(&figure::tick)
+            .label_style(figure::font(12))
+            .axis_desc_style(figure::font(14))
+            .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.1))
             .draw()
             .map_err(|e| err(&path, &e))?;
         c.draw_series(rows.iter().map(|r| {
             if r.converged {
-                Circle::new((r.angle.to_degrees(), r.t_converge), 1, COLORS[0].filled())
+                Circle::new(
+                    (r.angle.to_degrees(), r.t_converge),
+                    figure::px(2),
+                    COLORS[0].mix(0.6).filled(),
+                )
             } else {
-                Circle::new((r.angle.to_degrees(), t_max), 3, COLORS[1].filled())
+                Circle::new(
+                    (r.angle.to_degrees(), t_max),
+                    figure::px(3),
+                    COLORS[1].filled(),
+                )
             }
         }))
         .map_err(|e| err(&path, &e))?;
-        root.present().map_err(|e| err(&path, &e))?;
+        let dot = |label: &str, color| figure::Entry {
+            label: label.into(),
+            color,
+            dash: 0,
+            dots: true,
+            line: false,
+        };
+        figure::legend(
+            &side,
+            &[
+                dot("converged", COLORS[0]),
+                dot("did not (top edge)", COLORS[1]),
+            ],
+            40,
+        )?;
+        drop(c);
+        drop(side);
+        figure::finish(plot, &path, shown)?;
     }
     let path = dir.join("time_histogram.svg");
     let bins = 50usize;
@@ -203,18 +248,31 @@ pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(),
         counts[((x / w) as usize).min(bins - 1)] += 1;
     }
     let c_max = counts.iter().copied().max().unwrap_or(1).max(1) as f64 * 1.05;
-    let root = SVGBackend::new(&path, (720, 420)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&path, &e))?;
-    let mut c = ChartBuilder::on(&root)
-        .caption("Monte Carlo: time to converge", ("sans-serif", 18))
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
+    let shown = (720, 420);
+    let (plot, _) = figure::canvas(&path, shown, 0)?;
+    let mut c = ChartBuilder::on(&plot)
+        .caption("Monte Carlo: time to converge", figure::font(17))
+        .margin(figure::px(12))
+        .x_label_area_size(figure::px(40))
+        .y_label_area_size(figure::px(64))
         .build_cartesian_2d(0.0..t_max, 0.0..c_max)
         .map_err(|e| err(&path, &e))?;
     c.configure_mesh()
         .x_desc("time to converge [s]")
-        .y_desc("samples")
+        .y_desc("samples [count]")
+        .x_label_formatter(&figure::tick)
+        // Counts are whole: label only the integer ticks.
+        .y_label_formatter(&|v: &f64| {
+            if (v - v.round()).abs() < 1e-9 {
+                format!("{}", v.round() as i64)
+            } else {
+                String::new()
+            }
+        })
+        .label_style(figure::font(12))
+        .axis_desc_style(figure::font(14))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.1))
         .draw()
         .map_err(|e| err(&path, &e))?;
     c.draw_series(counts.iter().enumerate().map(|(k, &n)| {
@@ -224,6 +282,6 @@ pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(),
         )
     }))
     .map_err(|e| err(&path, &e))?;
-    root.present().map_err(|e| err(&path, &e))?;
-    Ok(())
+    drop(c);
+    figure::finish(plot, &path, shown)
 }

@@ -174,33 +174,33 @@ pub fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), Str
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
         (a.min(y), b.max(y))
     });
-    let root = SVGBackend::new(path, (720, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut c = ChartBuilder::on(&root)
+    let shown = (840, 480);
+    let (plot, side) = crate::figure::canvas(path, shown, 130)?;
+    let mut c = ChartBuilder::on(&plot)
         .caption(
             format!("{name}: error against wall time"),
-            ("sans-serif", 18),
+            crate::figure::font(17),
         )
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
+        .margin(crate::figure::px(10))
+        .x_label_area_size(crate::figure::px(40))
+        .y_label_area_size(crate::figure::px(64))
         .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
         .map_err(|e| err(&e))?;
     c.configure_mesh()
-        .x_desc("log10 wall time [s]")
-        .y_desc("log10 max error")
+        .x_desc("wall time [s], log scale")
+        .y_desc("max error: |Δx| [m], |ΔR| [dimensionless], log scale")
+        .x_label_formatter(&crate::figure::decade)
+        .y_label_formatter(&crate::figure::decade)
+        .label_style(crate::figure::font(12))
+        .axis_desc_style(crate::figure::font(13))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.1))
         .draw()
         .map_err(|e| err(&e))?;
-    let colors = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(148, 103, 189),
-        RGBColor(255, 127, 14),
-        RGBColor(0, 0, 0),
-    ];
+    let colors = crate::figure::COLORS;
     let mut kinds: Vec<&str> = pts.iter().map(|p| p.kind.as_str()).collect();
     kinds.dedup();
+    let mut entries = Vec::new();
     for (i, k) in kinds.iter().enumerate() {
         let col = colors[i % colors.len()];
         let line: Vec<(f64, f64)> = pts
@@ -208,22 +208,23 @@ pub fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), Str
             .filter(|p| p.kind == *k)
             .map(|p| (p.wall.max(1e-6).log10(), p.error.max(floor).log10()))
             .collect();
-        c.draw_series(LineSeries::new(
-            line.clone(),
-            ShapeStyle::from(col).stroke_width(2),
-        ))
-        .map_err(|e| err(&e))?
-        .label(k.to_string())
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], col));
-        c.draw_series(line.into_iter().map(|p| Circle::new(p, 3, col.filled())))
+        c.draw_series(LineSeries::new(line.clone(), crate::figure::line(col, 2)))
             .map_err(|e| err(&e))?;
-    }
-    c.configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
+        c.draw_series(
+            line.into_iter()
+                .map(|p| Circle::new(p, crate::figure::px(3), col.filled())),
+        )
         .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))?;
-    Ok(())
+        entries.push(crate::figure::Entry {
+            label: k.to_string(),
+            color: col,
+            dash: 0,
+            dots: true,
+            line: true,
+        });
+    }
+    crate::figure::legend(&side, &entries, 40)?;
+    drop(c);
+    drop(side);
+    crate::figure::finish(plot, path, shown)
 }
