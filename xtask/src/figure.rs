@@ -58,6 +58,9 @@ pub struct Entry {
     pub line: bool,
 }
 
+/// A region of an SVG figure.
+pub type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
 /// The drawing area for a figure of `shown` pixels, white, split into the
 /// plot (left) and a legend panel `legend_width` shown pixels wide (right;
 /// 0 for none).
@@ -65,13 +68,7 @@ pub fn canvas(
     path: &Path,
     shown: (u32, u32),
     legend_width: u32,
-) -> Result<
-    (
-        DrawingArea<SVGBackend<'_>, Shift>,
-        DrawingArea<SVGBackend<'_>, Shift>,
-    ),
-    String,
-> {
+) -> Result<(Area<'_>, Area<'_>), String> {
     let root = SVGBackend::new(path, (px(shown.0), px(shown.1))).into_drawing_area();
     root.fill(&WHITE)
         .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -80,11 +77,7 @@ pub fn canvas(
 
 /// Draws `entries` top-down in `area`, starting `top` shown pixels down
 /// (level with the plot's top edge).
-pub fn legend(
-    area: &DrawingArea<SVGBackend<'_>, Shift>,
-    entries: &[Entry],
-    top: u32,
-) -> Result<(), String> {
+pub fn legend(area: &Area<'_>, entries: &[Entry], top: u32) -> Result<(), String> {
     let e = |x: &dyn std::fmt::Display| x.to_string();
     let row = px(19) as i32;
     for (k, en) in entries.iter().enumerate() {
@@ -120,11 +113,7 @@ pub fn legend(
 }
 
 /// Writes the figure and gives it its shown size.
-pub fn finish(
-    root: DrawingArea<SVGBackend<'_>, Shift>,
-    path: &Path,
-    shown: (u32, u32),
-) -> Result<(), String> {
+pub fn finish(root: Area<'_>, path: &Path, shown: (u32, u32)) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     root.present().map_err(|e| err(&e))?;
     drop(root);
