@@ -1,8 +1,6 @@
 //! The geometric nonlinear PID controllers of Goodarzi, Lee & Lee,
-//! "Geometric Nonlinear PID Control of a Quadrotor UAV on SE(3)"
-//! (Goodarzi, Lee & Lee, "Geometric Nonlinear PID Control of a Quadrotor
-//! UAV on SE(3)"; equation labels are cited as
-//! `(eqn:…)`).
+//! "Geometric Nonlinear PID Control of a Quadrotor UAV on SE(3)" (equation
+//! labels of the paper are cited as `(eqn:…)`).
 //!
 //! This crate owns the control laws — attitude mode (eqn:aM, eqn:eI),
 //! position mode with the computed attitude and its exact derivatives
@@ -23,6 +21,39 @@
 //!
 //! `#![no_std]` without the `std` feature (use `libm`); no heap anywhere.
 //! Conventions as in the paper: `e3` points down, thrust acts along `−b3`.
+//!
+//! # Example
+//! The paper's position law commanding a hover 1 m above the origin from
+//! rest at the origin: the thrust exceeds the weight (climb: `−e3` is up)
+//! and the integral rates come back for the caller to integrate.
+//!
+//! ```
+//! use controllers::{
+//!     AccelerationModel, AttitudeGains, HoldPosition, Mode, PositionGains, PositionMode,
+//!     PositionReference, RigidBodyParams, VehicleState,
+//! };
+//! use lie::{Backend, NalgebraF64, Rotation, So3Mat};
+//! type B = NalgebraF64;
+//!
+//! let params = RigidBodyParams::<B>::paper();
+//! let target = HoldPosition(PositionReference::hold(B::vec3(0.0, 0.0, -1.0), B::vec3(1.0, 0.0, 0.0)));
+//! let mut law = PositionMode::new(
+//!     params,
+//!     PositionGains::paper(),
+//!     AttitudeGains::paper(),
+//!     AccelerationModel::Nominal,
+//!     target,
+//! );
+//! let zero = B::vec3(0.0, 0.0, 0.0);
+//! let at_rest = VehicleState { x: zero, v: zero, r: So3Mat::<B>::identity(), omega: zero };
+//! let integrals = [0.0; 6]; // [e_I, e_i], the paper's layout
+//! let mut rates = [0.0; 6];
+//! let out = law.command(0.0, &at_rest, &integrals, &mut rates)?;
+//! assert!(out.thrust > 0.755 * 9.81, "climbs: thrust {}", out.thrust);
+//! assert_eq!(law.integral_count(), 6);
+//! assert!(rates.iter().any(|r| *r != 0.0), "e_i grows while x is off target");
+//! # Ok::<(), controllers::ControlError>(())
+//! ```
 
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]

@@ -31,7 +31,23 @@ use crate::vec::zero;
 use crate::{ControlError, RigidBodyParams};
 use lie::{Backend, Real, Rotation, S, So3Mat, V3};
 
-/// `t ↦ (R_d, Ω_d, Ω̇_d)`: the reference of an attitude-tracking law.
+/// `t ↦ (R_d, Ω_d, Ω̇_d)`: the reference of an attitude-tracking law. Any
+/// closure `Fn(t) -> AttitudeReference` is one.
+///
+/// ```
+/// use controllers::{AttitudeReference, AttitudeSource};
+/// use lie::{Backend, NalgebraF64, Rotation, So3Mat};
+/// type B = NalgebraF64;
+///
+/// // A constant yaw rate of 0.5 rad/s about e3.
+/// let spin = |t: f64| AttitudeReference {
+///     rd: So3Mat::<B>::exp(B::vec3(0.0, 0.0, 0.5 * t)),
+///     omega_d: B::vec3(0.0, 0.0, 0.5),
+///     omega_d_dot: B::vec3(0.0, 0.0, 0.0),
+/// };
+/// let r = AttitudeSource::<B>::attitude(&spin, 2.0);
+/// assert!((r.rd.log()[2] - 1.0).abs() < 1e-15);
+/// ```
 pub trait AttitudeSource<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// The reference at time `t`.
     fn attitude(&self, t: S<B>) -> AttitudeReference<B, R>;
@@ -47,6 +63,21 @@ impl<B: Backend, R: Rotation<B>, F: Fn(S<B>) -> AttitudeReference<B, R>> Attitud
 }
 
 /// `t ↦ (x_d … x_d⁽⁴⁾, b1d, ḃ1d, b̈1d)`: the reference of a position law.
+/// Any closure `Fn(t) -> PositionReference` is one.
+///
+/// ```
+/// use controllers::{PositionReference, PositionSource};
+/// use lie::{Backend, NalgebraF64};
+/// type B = NalgebraF64;
+///
+/// // Climb at 1 m/s (e3 points down), heading e1.
+/// let climb = |t: f64| {
+///     let mut r = PositionReference::<B>::hold(B::vec3(0.0, 0.0, -t), B::vec3(1.0, 0.0, 0.0));
+///     r.v = B::vec3(0.0, 0.0, -1.0);
+///     r
+/// };
+/// assert_eq!(climb.position_f64(3.0), [0.0, 0.0, -3.0]);
+/// ```
 pub trait PositionSource<B: Backend> {
     /// The reference at time `t`.
     fn position(&self, t: S<B>) -> PositionReference<B>;
@@ -131,6 +162,47 @@ pub struct Breakpoint<B: Backend> {
 ///
 /// Object safe: a plan is a list of `Box<dyn Mode<B>>`. Only
 /// [`Mode::name`] and [`Mode::command`] are required.
+///
+/// # Example
+/// A mode of one's own: hold the current attitude with a thrust that
+/// cancels the weight and no moment (no integral states).
+///
+/// ```
+/// use controllers::{ControlError, Mode, ModeOutput, VehicleState};
+/// use lie::{Backend, GlamF64, Rotation, So3Mat, S};
+/// type B = GlamF64;
+///
+/// struct Float { weight: f64 }
+///
+/// impl Mode<B> for Float {
+///     fn name(&self) -> &'static str {
+///         "float"
+///     }
+///     fn command(
+///         &mut self,
+///         _t: S<B>,
+///         state: &VehicleState<B, So3Mat<B>>,
+///         _integrals: &[S<B>],
+///         _rates: &mut [S<B>],
+///     ) -> Result<ModeOutput<B>, ControlError> {
+///         Ok(ModeOutput {
+///             thrust: self.weight,
+///             moment: B::vec3(0.0, 0.0, 0.0),
+///             desired: state.r,
+///             desired_omega: B::vec3(0.0, 0.0, 0.0),
+///             psi: 0.0,
+///         })
+///     }
+/// }
+///
+/// let mut m: Box<dyn Mode<B>> = Box::new(Float { weight: 0.755 * 9.81 });
+/// let zero = B::vec3(0.0, 0.0, 0.0);
+/// let s = VehicleState { x: zero, v: zero, r: So3Mat::<B>::identity(), omega: zero };
+/// let out = m.command(0.0, &s, &[], &mut [])?;
+/// assert_eq!(out.thrust, 0.755 * 9.81);
+/// assert_eq!(m.integral_count(), 0);
+/// # Ok::<(), ControlError>(())
+/// ```
 pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// Short name for logs (`"attitude"`, `"position"`, `"landing"`).
     fn name(&self) -> &'static str;

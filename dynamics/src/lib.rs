@@ -37,6 +37,28 @@
 //! (`applied_wrench`); simulations integrate those states with the body. The defaults cost
 //! nothing: a vehicle that returns `None` from `disturbance` is never asked to
 //! add one. `examples/attitude_stand.rs` is a complete second vehicle.
+//!
+//! # Example
+//! The paper's quadrotor at rest: four equal rotor thrusts summing to the
+//! weight leave no net force (e3 points down, thrust up along `−R e3`) and
+//! no moment, and the allocation inverse gives the same thrusts back.
+//!
+//! ```
+//! use dynamics::{Quadrotor, RigidBodyState, Vehicle, loads};
+//! use lie::{Backend, NalgebraF64};
+//! type B = NalgebraF64;
+//!
+//! let quad = Quadrotor::<B>::paper();
+//! let each = quad.mass() * quad.gravity() / 4.0;
+//! let w = quad.wrench_from_actuators(&[each; 4])?;
+//! let l = loads(&quad, 0.0, &RigidBodyState::at_rest(), &w);
+//! let norm = |v| B::dot(v, v).sqrt();
+//! assert!(norm(l.force) < 1e-12 && norm(l.moment) < 1e-12);
+//! let mut rotors = [0.0; 4];
+//! quad.actuators_from_wrench(&w, &mut rotors)?;
+//! assert!(rotors.iter().all(|f| (f - each).abs() < 1e-12));
+//! # Ok::<(), dynamics::DynamicsError>(())
+//! ```
 
 #![deny(missing_docs)]
 
@@ -181,6 +203,43 @@ impl std::error::Error for DynamicsError {}
 
 /// A vehicle: a rigid body with actuators. Object safe; simulations hold a
 /// `Box<dyn Vehicle<B>>` so that a new vehicle needs no change anywhere else.
+///
+/// # Example
+/// A body with one thruster along `−b3` and no moment (a "sled"): only the
+/// six required methods.
+///
+/// ```
+/// use dynamics::{DynamicsError, RigidBodyState, Vehicle, Wrench, loads};
+/// use lie::{Backend, GlamF64, M3, S, ops};
+/// type B = GlamF64;
+///
+/// struct Sled;
+/// impl Vehicle<B> for Sled {
+///     fn name(&self) -> &str { "sled" }
+///     fn mass(&self) -> S<B> { 1.0 }
+///     fn inertia(&self) -> M3<B> { ops::identity::<B>() }
+///     fn gravity(&self) -> S<B> { 9.81 }
+///     fn actuator_count(&self) -> usize { 1 }
+///     fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
+///         match u {
+///             [f] => Ok(Wrench { thrust: *f, moment: B::vec3(0.0, 0.0, 0.0) }),
+///             _ => Err(DynamicsError::ActuatorCount { expected: 1, got: u.len() }),
+///         }
+///     }
+///     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
+///         match out {
+///             [f] => { *f = w.thrust; Ok(()) }
+///             _ => Err(DynamicsError::ActuatorCount { expected: 1, got: out.len() }),
+///         }
+///     }
+/// }
+/// // Twice the weight: 1 g upwards (−e3) net.
+/// let w = Sled.wrench_from_actuators(&[2.0 * 9.81])?;
+/// let l = loads(&Sled, 0.0, &RigidBodyState::at_rest(), &w);
+/// assert_eq!(B::vec3_to_array(l.force), [0.0, 0.0, -9.81]);
+/// assert!(Sled.wrench_from_actuators(&[1.0, 2.0]).is_err());
+/// # Ok::<(), DynamicsError>(())
+/// ```
 pub trait Vehicle<B: Backend>: Send + Sync {
     /// Short name for reports, e.g. `"quadrotor"`.
     fn name(&self) -> &str;

@@ -27,6 +27,40 @@
 //! that fails (non-finite state, an LGVI solve with no solution, a Dormand–
 //! Prince step size underflow) returns a [`StepError`] and leaves the state
 //! untouched.
+//!
+//! # Example
+//! A torque-free body (J = diag(1, 2, 3)) for 100 s by the LGVI and by
+//! RK4: the variational method keeps the kinetic energy and R's
+//! orthogonality to rounding, RK4 both to its truncation error.
+//!
+//! ```
+//! use dynamics::{FreeRigidBody, RigidBodyState, Vehicle, Wrench};
+//! use integrators::{Lgvi, OpenLoop, Rk4, State, integrate_fixed};
+//! use lie::{Backend, NalgebraF64, Rotation, So3Mat, ops};
+//! type B = NalgebraF64;
+//!
+//! let body = FreeRigidBody::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0))?;
+//! let energy = |y: &State<B, 0>| {
+//!     let w = y.body.omega;
+//!     0.5 * B::dot(w, body.inertia() * w)
+//! };
+//! let mut start = State::<B, 0>::new(RigidBodyState::at_rest());
+//! start.body.omega = B::vec3(1.0, 0.5, -0.3);
+//! let e0 = energy(&start);
+//! for (name, drift_bound, group_bound) in [("lgvi", 1e-12, 1e-12), ("rk4", 1e-6, 1e-8)] {
+//!     let mut sys = OpenLoop::new(&body, Wrench::zero());
+//!     let mut y = start;
+//!     match name {
+//!         "lgvi" => integrate_fixed(&mut Lgvi::default(), &mut sys, 0.0, 0.01, 10_000, &mut y)?,
+//!         _ => integrate_fixed(&mut Rk4::default(), &mut sys, 0.0, 0.01, 10_000, &mut y)?,
+//!     };
+//!     let drift = (energy(&y) / e0 - 1.0).abs();
+//!     assert!(drift < drift_bound, "{name}: |ΔE/E| = {drift:e}");
+//!     let off_group = So3Mat::<B>::from_matrix_unchecked(y.body.r).orthogonality_error();
+//!     assert!(off_group < group_bound, "{name}: ‖RᵀR − I‖ = {off_group:e}");
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 #![deny(missing_docs)]
 
@@ -165,6 +199,34 @@ impl fmt::Display for StepError {
 impl std::error::Error for StepError {}
 
 /// A one-step method for a [`System`] with `N` extra states.
+///
+/// # Example
+/// Code generic over the stepper is compiled once per stepper; here, the
+/// error of one step of each against a tiny-step reference shows the
+/// orders (halving h divides RK4's step error by about 2⁵ = 32).
+///
+/// ```
+/// use dynamics::{FreeRigidBody, RigidBodyState, Wrench};
+/// use integrators::{Integrator, OpenLoop, Rk4, Rkmk4, State, integrate_fixed};
+/// use lie::{Backend, NalgebraF64, ops};
+/// type B = NalgebraF64;
+///
+/// fn step_error<I: Integrator<B, 0> + Default>(h: f64) -> f64 {
+///     let body = FreeRigidBody::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0)).unwrap();
+///     let mut sys = OpenLoop::new(&body, Wrench::zero());
+///     let mut start = State::<B, 0>::new(RigidBodyState::at_rest());
+///     start.body.omega = B::vec3(1.0, 0.5, -0.3);
+///     let (mut one, mut fine) = (start, start);
+///     I::default().step(&mut sys, 0.0, h, &mut one).unwrap();
+///     integrate_fixed(&mut Rk4::default(), &mut sys, 0.0, h / 1000.0, 1000, &mut fine).unwrap();
+///     let d = one.body.omega - fine.body.omega;
+///     B::dot(d, d).sqrt()
+/// }
+/// for ratio in [step_error::<Rk4>(0.1) / step_error::<Rk4>(0.05),
+///               step_error::<Rkmk4>(0.1) / step_error::<Rkmk4>(0.05)] {
+///     assert!(ratio > 20.0 && ratio < 45.0, "{ratio}");
+/// }
+/// ```
 pub trait Integrator<B: Backend, const N: usize> {
     /// Name as accepted by [`Stepper::from_name`].
     fn name(&self) -> &'static str;
@@ -185,7 +247,7 @@ pub trait Integrator<B: Backend, const N: usize> {
     fn reset(&mut self) {}
 }
 
-/// Takes `n` steps of size `h` from `t0`; the time of step `k` is
+/// Takes `n` steps of size `h` from `t0` (see the crate example); the time of step `k` is
 /// `t0 + k h` computed by multiplication, not by repeated addition.
 pub fn integrate_fixed<B, I, Sys, const N: usize>(
     integrator: &mut I,

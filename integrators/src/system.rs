@@ -82,6 +82,36 @@ impl<B: Backend, const N: usize> Load<B, N> {
 /// The equations are `Ṙ = RΩ^`, `ẋ = v`, `m v̇ = force`,
 /// `J Ω̇ = moment − Ω × JΩ`, `ė = extra_rate`; when [`System::translates`]
 /// is false, `x` and `v` are left alone and cost nothing.
+///
+/// # Example
+/// A falling body whose one extra state integrates its height: after 1 s
+/// of free fall from rest (e3 down), `x3 = g/2` and the extra state holds
+/// `∫x3 dt = g/6`, both polynomials RK4 integrates exactly.
+///
+/// ```
+/// use dynamics::RigidBodyState;
+/// use integrators::{Load, Rk4, State, System, integrate_fixed};
+/// use lie::{Backend, GlamF64, M3, ops};
+/// type B = GlamF64;
+///
+/// struct Falling;
+/// impl System<B, 1> for Falling {
+///     fn mass(&self) -> f64 { 2.0 }
+///     fn inertia(&self) -> M3<B> { ops::identity::<B>() }
+///     fn load(&mut self, _t: f64, y: &State<B, 1>) -> Load<B, 1> {
+///         Load {
+///             force: B::vec3(0.0, 0.0, 2.0 * 9.81),
+///             moment: B::vec3(0.0, 0.0, 0.0),
+///             extra_rate: [B::vec3_to_array(y.body.x)[2]],
+///         }
+///     }
+/// }
+/// let mut y = State::<B, 1>::new(RigidBodyState::at_rest());
+/// integrate_fixed(&mut Rk4::default(), &mut Falling, 0.0, 0.1, 10, &mut y)?;
+/// assert!((B::vec3_to_array(y.body.x)[2] - 9.81 / 2.0).abs() < 1e-12);
+/// assert!((y.extra[0] - 9.81 / 6.0).abs() < 1e-12);
+/// # Ok::<(), integrators::StepError>(())
+/// ```
 pub trait System<B: Backend, const N: usize> {
     /// Mass, kg.
     fn mass(&self) -> S<B>;

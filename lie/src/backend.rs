@@ -15,6 +15,22 @@ use core::fmt::Debug;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// A (linear-algebra library, scalar) pair. See the module docs.
+///
+/// A formula written once over `B` compiles to each library's own types:
+///
+/// ```
+/// use lie::{Backend, GlamF32, NalgebraF64, Real, S, V3};
+///
+/// /// The component of `v` normal to the unit vector `n`.
+/// fn normal_part<B: Backend>(v: V3<B>, n: V3<B>) -> V3<B> {
+///     v - n * B::dot(v, n)
+/// }
+/// let g: glam::Vec3 = normal_part::<GlamF32>(glam::Vec3::new(1.0, 2.0, 3.0), glam::Vec3::Z);
+/// assert_eq!(g, glam::Vec3::new(1.0, 2.0, 0.0));
+/// let n = normal_part::<NalgebraF64>(NalgebraF64::vec3(1.0, 2.0, 3.0), NalgebraF64::vec3(1.0, 0.0, 0.0));
+/// assert_eq!(NalgebraF64::vec3_to_array(n), [0.0, 2.0, 3.0]);
+/// let _: S<GlamF32> = Real::lit(1.5); // the scalar is f32 here
+/// ```
 pub trait Backend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 'static {
     /// The scalar, `f32` or `f64`.
     type Scalar: Real;

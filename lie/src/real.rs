@@ -14,6 +14,19 @@ use num_traits::{Float, FloatConst};
 /// moves to larger angles when `ε` is larger. The values and their derivation
 /// are given on each constant; `tests/so3_suite.rs` evaluates every formula
 /// just either side of its cut-off.
+///
+/// ```
+/// use lie::Real;
+///
+/// /// `(1 − cos θ)/θ²`, written once for f32 and f64.
+/// fn half_versine_ratio<T: Real>(theta: T) -> T {
+///     let h = theta * T::lit(0.5);
+///     let s = h.sin() / h;
+///     T::lit(0.5) * s * s
+/// }
+/// assert!((half_versine_ratio(1e-3f64) - 0.5).abs() < 1e-7);
+/// assert!((half_versine_ratio(1e-3f32).to_f64_lossless() - 0.5).abs() < 1e-6);
+/// ```
 pub trait Real:
     Float
     + FloatConst

@@ -8,6 +8,23 @@ use core::fmt::Debug;
 /// An element of SO(3) in some representation (rotation matrix or unit
 /// quaternion) on backend `B`. `R` maps body-frame vectors to the inertial
 /// frame.
+///
+/// Code written against the trait runs on both representations:
+///
+/// ```
+/// use lie::{Backend, NalgebraF64, Rotation, So3Mat, So3Quat};
+/// type B = NalgebraF64;
+///
+/// /// The angle between two attitudes, from Ψ = 1 − cos θ.
+/// fn angle<R: Rotation<B>>(a: R, b: R) -> f64 {
+///     (1.0 - a.psi(b)).acos()
+/// }
+/// let phi = B::vec3(0.3, -0.2, 0.1);
+/// let (m, q) = (So3Mat::<B>::exp(phi), So3Quat::<B>::exp(phi));
+/// let theta = (0.09f64 + 0.04 + 0.01).sqrt();
+/// assert!((angle(m, So3Mat::identity()) - theta).abs() < 1e-12);
+/// assert!((angle(q, So3Quat::identity()) - theta).abs() < 1e-12);
+/// ```
 pub trait Rotation<B: Backend>: Copy + Debug + PartialEq + core::ops::Mul<Output = Self> {
     /// `"matrix"` or `"quaternion"`, for reports.
     const REPR: &'static str;

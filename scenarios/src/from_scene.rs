@@ -1,5 +1,5 @@
 //! Scenes as one front end of the [`Simulation`]: a [`Scene`] becomes a
-//! vehicle, a plan of [`Mode`]s with their references, an integrator and
+//! vehicle, a plan of [`Mode`](controllers::Mode)s with their references, an integrator and
 //! the run settings. A [`Registry`] adds a program's own vehicle kinds, so a
 //! scene file can name them.
 
@@ -24,7 +24,7 @@ use crate::scene::{
 use crate::sim::{Control, RunOptions, RunOutput, Segment, SimError, Simulation, Until};
 use crate::{SceneError, builtin};
 
-/// A scene's attitude reference as an [`AttitudeSource`]: a constant one is
+/// A scene's attitude reference as an [`AttitudeSource`](controllers::AttitudeSource): a constant one is
 /// computed once, the others are evaluated (in f64) per call.
 pub enum SceneAttitude<B: Backend> {
     /// A constant reference.
@@ -57,7 +57,7 @@ impl<B: Backend> AttitudeSource<B> for SceneAttitude<B> {
     }
 }
 
-/// A scene's position reference as a [`PositionSource`]: a hold is
+/// A scene's position reference as a [`PositionSource`](controllers::PositionSource): a hold is
 /// converted once, a generator evaluated (in f64) per call; logs read
 /// `x_d` in f64 either way.
 pub enum ScenePosition<B: Backend> {
@@ -110,7 +110,30 @@ impl<B: Backend> PositionSource<B> for PositionRef {
 /// Builds a program's own vehicle kind from a scene, on any backend.
 ///
 /// Register it with [`Registry::vehicle`]; a scene file then names it in
-/// `vehicle.kind`, with its own numbers in `[vehicle.params]`.
+/// `vehicle.kind`, with its own numbers in `[vehicle.params]` (the
+/// [`Registry`] page runs a whole scene through one).
+///
+/// ```
+/// use dynamics::{FreeRigidBody, Vehicle};
+/// use lie::{Backend, ops};
+/// use scenarios::{Scene, VehicleFactory};
+///
+/// /// A free body whose inertia is `params.scale` times the scene's.
+/// struct Scaled;
+/// impl VehicleFactory for Scaled {
+///     fn build<B: Backend>(&self, scene: &Scene) -> Result<Box<dyn Vehicle<B>>, String> {
+///         let k = scene.vehicle.params.get("scale").copied().unwrap_or(1.0);
+///         let [a, b, c] = scene.vehicle.inertia.map(|j| lie::Real::lit(k * j));
+///         let body = FreeRigidBody::<B>::new(ops::diag::<B>(a, b, c)).map_err(|e| e.to_string())?;
+///         Ok(Box::new(body))
+///     }
+/// }
+/// let mut scene = scenarios::builtin::free_rigid_body();
+/// scene.vehicle.params.insert("scale".into(), 2.0);
+/// let v = Scaled.build::<lie::NalgebraF64>(&scene)?;
+/// assert_eq!(ops::elems::<lie::NalgebraF64>(v.inertia())[0][0], 2.0 * scene.vehicle.inertia[0]);
+/// # Ok::<(), String>(())
+/// ```
 pub trait VehicleFactory: Send + Sync + 'static {
     /// The vehicle of `scene` (read `scene.vehicle`, its `params`, and
     /// `scene.disturbance`). An `Err` names the parameter and value at
@@ -367,7 +390,7 @@ fn gains<B: Backend>(
     (params, pg, ag, model)
 }
 
-/// The scene's plan as [`Mode`]s. The paper's modes share the integral
+/// The scene's plan as [`Mode`](controllers::Mode)s. The paper's modes share the integral
 /// register `[e_I, e_i]`; the first position segment zeroes `e_i` when
 /// entered, later ones keep it (the paper's "when position mode first
 /// starts").

@@ -58,6 +58,33 @@ fn err(path: &Path, e: impl std::fmt::Display) -> OutputError {
 /// Receives a run's output as the run produces it. Calls come in time
 /// order: [`Sink::begin`] once, then samples, with each mode switch
 /// reported before the sample taken at its instant.
+///
+/// ```
+/// use scenarios::output::{OutputError, Sink};
+/// use scenarios::{RunOptions, Sample, SwitchRecord};
+///
+/// /// Keeps the largest Ψ after the switch, nothing else.
+/// #[derive(Default)]
+/// struct PeakAfterSwitch { switched: bool, peak: f64 }
+/// impl Sink for PeakAfterSwitch {
+///     fn begin(&mut self, _: &[&'static str]) -> Result<(), OutputError> { Ok(()) }
+///     fn switch(&mut self, _: &SwitchRecord, _: &str) -> Result<(), OutputError> {
+///         self.switched = true;
+///         Ok(())
+///     }
+///     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
+///         if self.switched { self.peak = self.peak.max(s.psi); }
+///         Ok(())
+///     }
+/// }
+/// let mut sink = PeakAfterSwitch::default();
+/// let mut scene = scenarios::builtin::paper_flip();
+/// scene.duration = 1.0;
+/// let out = scenarios::run(&scene, RunOptions { record: false, sink: Some(&mut sink), ..Default::default() })?;
+/// assert!(out.samples.is_empty(), "nothing kept in memory");
+/// assert!(sink.peak > 0.5, "the switch to position mode jumps Ψ: {}", sink.peak);
+/// # Ok::<(), scenarios::SimError>(())
+/// ```
 pub trait Sink {
     /// Before the first sample: the name of each segment's mode, in plan
     /// order (empty without a plan).

@@ -55,7 +55,7 @@ pub struct Sample {
     pub thrust: f64,
     /// Commanded moment.
     pub moment: [f64; 3],
-    /// Name of the active mode ([`Mode::name`]; `"none"` without a plan).
+    /// Name of the active mode ([`Mode::name`](controllers::Mode::name); `"none"` without a plan).
     pub mode: &'static str,
     /// Active segment.
     pub segment: usize,
