@@ -33,7 +33,8 @@ impl<B: Backend> AttitudeGains<B> {
     /// The paper's gains: `k_R = 0.65, k_Ω = 0.11, k_I = 0.06, c2 = 0.8`.
     pub fn paper() -> Self {
         let s = S::<B>::lit;
-        Self::uniform(s(0.65), s(0.11), s(0.06), s(0.8))
+        let g = crate::paper::ATTITUDE_GAINS;
+        Self::uniform(s(g.k_r), s(g.k_omega), s(g.k_i), s(g.c2))
     }
 }
 

@@ -62,6 +62,7 @@ mod attitude_pid;
 mod gain_check;
 mod mode;
 mod mode_scheduler;
+pub mod paper;
 mod position_pid;
 mod vec;
 
@@ -99,14 +100,15 @@ impl<B: Backend> RigidBodyParams<B> {
     pub fn paper() -> Self {
         let s = S::<B>::lit;
         let z = s(0.0);
+        let [j1, j2, j3] = paper::INERTIA;
         Self {
-            mass: s(0.755),
+            mass: s(paper::MASS),
             inertia: B::mat3_from_cols(
-                B::vec3(s(0.43e-2), z, z),
-                B::vec3(z, s(0.43e-2), z),
-                B::vec3(z, z, s(1.02e-2)),
+                B::vec3(s(j1), z, z),
+                B::vec3(z, s(j2), z),
+                B::vec3(z, z, s(j3)),
             ),
-            gravity: s(9.81),
+            gravity: s(paper::GRAVITY),
         }
     }
 }

@@ -68,7 +68,8 @@ impl<B: Backend> PositionGains<B> {
     /// The paper's gains: `k_x = 12.8, k_v = 4.22, k_i = 1.28, c1 = 3.6, σ = 1`.
     pub fn paper() -> Self {
         let s = S::<B>::lit;
-        Self::uniform(s(12.8), s(4.22), s(1.28), s(3.6), s(1.0))
+        let g = crate::paper::POSITION_GAINS;
+        Self::uniform(s(g.k_x), s(g.k_v), s(g.k_i), s(g.c1), s(g.sigma))
     }
 }
 

@@ -1,5 +1,6 @@
 //! The shipped vehicles.
 
+use controllers::paper;
 use lie::num_traits::{Float, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
@@ -85,11 +86,15 @@ impl<B: Backend> Quadrotor<B> {
     pub fn paper() -> Self {
         let l = S::<B>::lit;
         Self::new(
-            l(0.755),
-            ops::diag::<B>(l(0.43e-2), l(0.43e-2), l(1.02e-2)),
-            l(9.81),
-            l(0.169),
-            l(0.0132),
+            l(paper::MASS),
+            ops::diag::<B>(
+                l(paper::INERTIA[0]),
+                l(paper::INERTIA[1]),
+                l(paper::INERTIA[2]),
+            ),
+            l(paper::GRAVITY),
+            l(paper::ARM),
+            l(paper::C_TAU_F),
         )
         .expect("the paper's parameters are valid")
     }
@@ -98,9 +103,10 @@ impl<B: Backend> Quadrotor<B> {
     /// Δ_R = [0.2, −0.1, −0.02] N m.
     pub fn paper_disturbance() -> Disturbance<B> {
         let l = S::<B>::lit;
+        let ([f1, f2, f3], [m1, m2, m3]) = (paper::DELTA_X, paper::DELTA_R);
         Disturbance {
-            force: B::vec3(l(-0.5), l(0.2), l(1.0)),
-            moment: B::vec3(l(0.2), l(-0.1), l(-0.02)),
+            force: B::vec3(l(f1), l(f2), l(f3)),
+            moment: B::vec3(l(m1), l(m2), l(m3)),
         }
     }
 

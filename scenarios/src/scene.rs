@@ -2,6 +2,7 @@
 
 use std::collections::BTreeMap;
 
+use controllers::paper;
 use serde::{Deserialize, Serialize};
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are
@@ -175,12 +176,12 @@ impl Default for VehicleSpec {
     fn default() -> Self {
         Self {
             kind: VehicleKind::Quadrotor,
-            mass: 0.755,
-            inertia: [0.43e-2, 0.43e-2, 1.02e-2],
+            mass: paper::MASS,
+            inertia: paper::INERTIA,
             allow_nonphysical_inertia: true,
-            gravity: 9.81,
-            arm: 0.169,
-            c_tau_f: 0.0132,
+            gravity: paper::GRAVITY,
+            arm: paper::ARM,
+            c_tau_f: paper::C_TAU_F,
             stand_height: 0.0,
             params: BTreeMap::new(),
         }
@@ -201,8 +202,8 @@ impl DisturbanceSpec {
     /// The paper's Δ_x = [−0.5, 0.2, 1] N, Δ_R = [0.2, −0.1, −0.02] N m.
     pub fn paper() -> Self {
         Self {
-            force: [-0.5, 0.2, 1.0],
-            moment: [0.2, -0.1, -0.02],
+            force: paper::DELTA_X,
+            moment: paper::DELTA_R,
         }
     }
 }
@@ -252,16 +253,17 @@ pub struct GainsSpec {
 
 impl Default for GainsSpec {
     fn default() -> Self {
+        let (p, a) = (paper::POSITION_GAINS, paper::ATTITUDE_GAINS);
         Self {
-            k_x: 12.8,
-            k_v: 4.22,
-            k_i: 1.28,
-            k_r: 0.65,
-            k_omega: 0.11,
-            k_att_i: 0.06,
-            c1: 3.6,
-            c2: 0.8,
-            sigma: 1.0,
+            k_x: p.k_x,
+            k_v: p.k_v,
+            k_i: p.k_i,
+            k_r: a.k_r,
+            k_omega: a.k_omega,
+            k_att_i: a.k_i,
+            c1: p.c1,
+            c2: a.c2,
+            sigma: p.sigma,
             acceleration_model: AccelModel::Nominal,
             clamp_integral: false,
         }
