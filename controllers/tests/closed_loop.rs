@@ -1,3 +1,9 @@
+//! One pair (nalgebra-f64) on purpose: these tests integrate the laws in
+//! an independent reference simulator written with nalgebra's own types,
+//! and compare with closed forms to 1e-6…1e-9, below what f32 resolves over
+//! seconds of flight. The laws are one generic source; their agreement
+//! across pairs is `precision_and_options::f32_glam_matches_f64_nalgebra`
+//! (the far corner) and `lie`'s four-pair suites for every primitive.
 //! Closed-loop checks of the paper's claims, with a small RK4 integrator
 //! written here (R advanced on the embedding and projected back onto SO(3)
 //! after every step) so the controller is tested apart from the

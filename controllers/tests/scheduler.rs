@@ -1,5 +1,8 @@
 //! The flight-mode scheduler on the paper's flip plan: attitude mode until
 //! 0.4 s, then position mode; and a Ψ-triggered switch.
+//!
+//! One pair (nalgebra-f64): the scheduler is switching logic (times,
+//! thresholds, what `enter` zeroes), which no backend arithmetic touches.
 
 use controllers::*;
 use lie::{NalgebraF64 as B, Rotation, So3Mat};

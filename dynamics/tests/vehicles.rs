@@ -1,5 +1,11 @@
 //! Vehicles: allocation and its inverse, limits, loads, the stand's gravity
 //! moment, parameter validation.
+//!
+//! Most tests run on nalgebra-f64: they check formulas (determinants,
+//! clamping, the stand's moment, error naming) whose code is the same
+//! generic source on every pair. What a pair could change, rounding, is
+//! checked by `allocation_and_hover_on_every_pair` (all four) and
+//! `f32_glam_matches_f64` (the far corner, glam-f32 against nalgebra-f64).
 #![allow(clippy::needless_range_loop)] // index notation mirrors the formulas
 
 use dynamics::{
@@ -284,4 +290,41 @@ fn hexarotor_minimum_norm_allocation() {
     }
     let fleet: Vec<Box<dyn Vehicle<B>>> = vec![Box::new(h)];
     assert_eq!(fleet[0].actuator_count(), 6);
+}
+
+/// Allocation round trip and hover balance on every (backend, scalar) pair:
+/// the vehicles are generic code, and this is where a backend's own
+/// arithmetic (glam's SIMD-friendly layout, nalgebra's column storage)
+/// could differ. Tolerance: a few ε of the pair times the O(10 N) values.
+fn allocation_on<P: Backend>() {
+    let q = Quadrotor::<P>::paper();
+    let l = S::<P>::lit;
+    let eps = <S<P> as lie::num_traits::Float>::epsilon().to_f64_lossless();
+    let w = Wrench::<P> {
+        thrust: l(8.0),
+        moment: P::vec3(l(0.1), l(-0.05), l(0.01)),
+    };
+    let mut f = [l(0.0); 4];
+    q.actuators_from_wrench(&w, &mut f).unwrap();
+    let back = q.wrench_from_actuators(&f).unwrap();
+    let d = (back.thrust - w.thrust).to_f64_lossless().abs()
+        + ops::norm::<P>(back.moment - w.moment).to_f64_lossless();
+    assert!(d < 64.0 * eps * 10.0, "{}: round trip {d:e}", P::NAME);
+    let each = q.mass() * q.gravity() / l(4.0);
+    let hover = q.wrench_from_actuators(&[each; 4]).unwrap();
+    let lo = loads(&q, l(0.0), &RigidBodyState::at_rest(), &hover);
+    let residual = ops::norm::<P>(lo.force).to_f64_lossless();
+    assert!(
+        residual < 64.0 * eps * 10.0,
+        "{}: hover {residual:e}",
+        P::NAME
+    );
+}
+
+#[test]
+fn allocation_and_hover_on_every_pair() {
+    allocation_on::<lie::NalgebraF64>();
+    allocation_on::<lie::NalgebraF32>();
+    allocation_on::<lie::GlamF64>();
+    allocation_on::<GlamF32>();
 }

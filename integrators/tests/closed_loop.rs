@@ -2,6 +2,9 @@
 //! paper's quadrotor with Δ_x, Δ_R under the geometric PID position
 //! controller tracking a smooth circle, integral states e_I, e_i integrated
 //! with the body (N = 6). Reference: Dormand–Prince at tol 1e-12.
+//!
+//! In f64 only, for the reason given in `orders.rs`: fitted orders need
+//! errors far above f32's rounding.
 
 mod common;
 

@@ -1,6 +1,12 @@
 //! The simulation API from the outside: closures as references give the
 //! scene's results, bad settings are errors naming the field and value,
 //! registered vehicle kinds are the only custom ones a scene may name.
+//!
+//! One pair (nalgebra-f64): these test the API's plumbing (closures as
+//! references, builder errors, registration), which is the same generic
+//! code on every pair; a scene on all four pairs is
+//! `scenes::f32_glam_follows_f64_nalgebra`, and a registered kind is built
+//! on all four by `Registry::vehicle`.
 
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,

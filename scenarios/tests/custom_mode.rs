@@ -1,6 +1,9 @@
 //! A user's flight mode and switching condition through the public API:
 //! the condition is located, the mode's own entry logic runs, and what it
 //! keeps of the integral register is kept.
+//!
+//! One pair: the examples this tests are written for one (a user picks
+//! one); pair independence of the loop is `scenes::f32_glam_follows_f64_nalgebra`.
 
 #[path = "../examples/custom_mode/landing.rs"]
 mod landing;

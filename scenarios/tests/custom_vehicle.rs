@@ -2,6 +2,9 @@
 //! simulation API: the τ → 0 limit equals the built-in quadrotor, the lag's
 //! effect is first order in τ, its states are integrated, logged and
 //! counted in the layout.
+//!
+//! One pair: the examples this tests are written for one (a user picks
+//! one); pair independence of the loop is `scenes::f32_glam_follows_f64_nalgebra`.
 
 #[path = "../examples/custom_vehicle/lagged.rs"]
 mod lagged;
