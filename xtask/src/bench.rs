@@ -384,17 +384,15 @@ fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> 
             .y_label_area_size(figure::px(56))
             .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
             .map_err(|e| err(&e))?;
-        c.configure_mesh()
-            .x_desc("wall time [s], log scale")
-            .y_desc("max error [m, rad], log scale")
-            .x_label_formatter(&figure::decade)
-            .y_label_formatter(&figure::decade)
-            .label_style(figure::font(11))
-            .axis_desc_style(figure::font(12))
-            .light_line_style(WHITE.mix(0.0))
-            .bold_line_style(BLACK.mix(0.1))
-            .draw()
-            .map_err(|e| err(&e))?;
+        figure::axes(
+            &mut c,
+            "wall time [s], log scale",
+            "max error [m, rad], log scale",
+            &figure::decade,
+            &figure::decade,
+            11,
+        )
+        .map_err(|e| err(&e))?;
         for (k, kind) in kinds.iter().enumerate() {
             let col = colors[k % colors.len()];
             for backend in ["nalgebra", "glam"] {

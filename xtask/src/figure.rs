@@ -8,6 +8,7 @@
 use std::path::Path;
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Drawn at `SCALE` × the shown size; the SVG's `width`/`height` say the
@@ -40,6 +41,34 @@ pub fn font(size: u32) -> (&'static str, u32) {
 /// A line style of `width` shown pixels.
 pub fn line(color: RGBColor, width: u32) -> ShapeStyle {
     ShapeStyle::from(color).stroke_width(px(width))
+}
+
+/// A chart over f64 ranges on an SVG figure.
+pub type Chart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws the grid, ticks and axis titles in the house style: light major
+/// grid lines only, labels at the shown sizes, `fx`/`fy` formatting the
+/// ticks ([`tick`], [`decade`], or a caller's).
+pub fn axes(
+    c: &mut Chart<'_, '_>,
+    x: &str,
+    y: &str,
+    fx: &dyn Fn(&f64) -> String,
+    fy: &dyn Fn(&f64) -> String,
+    label_size: u32,
+) -> Result<(), String> {
+    c.configure_mesh()
+        .x_desc(x)
+        .y_desc(y)
+        .x_label_formatter(fx)
+        .y_label_formatter(fy)
+        .label_style(font(label_size))
+        .axis_desc_style(font(label_size + 2))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.1))
+        .draw()
+        .map_err(|e| e.to_string())
 }
 
 /// One legend row: a short line (dashed when the series is) and a label.

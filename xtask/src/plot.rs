@@ -40,17 +40,7 @@ fn chart(path: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<()
         .y_label_area_size(figure::px(64))
         .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
         .map_err(|e| err(&e))?;
-    c.configure_mesh()
-        .x_desc("t [s]")
-        .y_desc(ylabel)
-        .x_label_formatter(&figure::tick)
-        .y_label_formatter(&figure::tick)
-        .label_style(figure::font(12))
-        .axis_desc_style(figure::font(14))
-        .light_line_style(WHITE.mix(0.0))
-        .bold_line_style(BLACK.mix(0.1))
-        .draw()
-        .map_err(|e| err(&e))?;
+    figure::axes(&mut c, "t [s]", ylabel, &figure::tick, &figure::tick, 12).map_err(|e| err(&e))?;
     let mut entries = Vec::new();
     for (name, pts, color, dash) in series {
         let style = figure::line(*color, 2);
@@ -194,17 +184,15 @@ pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(),
             .y_label_area_size(figure::px(64))
             .build_cartesian_2d(0.0..180.0, 0.0..t_max)
             .map_err(|e| err(&path, &e))?;
-        c.configure_mesh()
-            .x_desc("initial angle [deg]")
-            .y_desc("time to converge [s]")
-            .x_label_formatter(&figure::tick)
-            .y_label_formatter(&figure::tick)
-            .label_style(figure::font(12))
-            .axis_desc_style(figure::font(14))
-            .light_line_style(WHITE.mix(0.0))
-            .bold_line_style(BLACK.mix(0.1))
-            .draw()
-            .map_err(|e| err(&path, &e))?;
+        figure::axes(
+            &mut c,
+            "initial angle [deg]",
+            "time to converge [s]",
+            &figure::tick,
+            &figure::tick,
+            12,
+        )
+        .map_err(|e| err(&path, &e))?;
         c.draw_series(rows.iter().map(|r| {
             if r.converged {
                 Circle::new(
@@ -257,24 +245,23 @@ pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(),
         .y_label_area_size(figure::px(64))
         .build_cartesian_2d(0.0..t_max, 0.0..c_max)
         .map_err(|e| err(&path, &e))?;
-    c.configure_mesh()
-        .x_desc("time to converge [s]")
-        .y_desc("samples [count]")
-        .x_label_formatter(&figure::tick)
-        // Counts are whole: label only the integer ticks.
-        .y_label_formatter(&|v: &f64| {
-            if (v - v.round()).abs() < 1e-9 {
-                format!("{}", v.round() as i64)
-            } else {
-                String::new()
-            }
-        })
-        .label_style(figure::font(12))
-        .axis_desc_style(figure::font(14))
-        .light_line_style(WHITE.mix(0.0))
-        .bold_line_style(BLACK.mix(0.1))
-        .draw()
-        .map_err(|e| err(&path, &e))?;
+    // Counts are whole: label only the integer ticks.
+    let count = |v: &f64| {
+        if (v - v.round()).abs() < 1e-9 {
+            format!("{}", v.round() as i64)
+        } else {
+            String::new()
+        }
+    };
+    figure::axes(
+        &mut c,
+        "time to converge [s]",
+        "samples [count]",
+        &figure::tick,
+        &count,
+        12,
+    )
+    .map_err(|e| err(&path, &e))?;
     c.draw_series(counts.iter().enumerate().map(|(k, &n)| {
         Rectangle::new(
             [(k as f64 * w, 0.0), ((k + 1) as f64 * w, n as f64)],

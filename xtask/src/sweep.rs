@@ -186,17 +186,15 @@ pub fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), Str
         .y_label_area_size(crate::figure::px(64))
         .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
         .map_err(|e| err(&e))?;
-    c.configure_mesh()
-        .x_desc("wall time [s], log scale")
-        .y_desc("max error: |Δx| [m], |ΔR| [dimensionless], log scale")
-        .x_label_formatter(&crate::figure::decade)
-        .y_label_formatter(&crate::figure::decade)
-        .label_style(crate::figure::font(12))
-        .axis_desc_style(crate::figure::font(13))
-        .light_line_style(WHITE.mix(0.0))
-        .bold_line_style(BLACK.mix(0.1))
-        .draw()
-        .map_err(|e| err(&e))?;
+    crate::figure::axes(
+        &mut c,
+        "wall time [s], log scale",
+        "max error: |Δx| [m], |ΔR| [dimensionless], log scale",
+        &crate::figure::decade,
+        &crate::figure::decade,
+        12,
+    )
+    .map_err(|e| err(&e))?;
     let colors = crate::figure::COLORS;
     let mut kinds: Vec<&str> = pts.iter().map(|p| p.kind.as_str()).collect();
     kinds.dedup();

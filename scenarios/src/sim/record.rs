@@ -63,6 +63,24 @@ pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
     out.psi_range = (out.psi_range.0.min(s.psi), out.psi_range.1.max(s.psi));
 }
 
+/// The command acting at `(t, y)`: the held one under sampled control,
+/// else the active mode's; a mode's error names the time.
+fn command_at<B: Backend, const N: usize>(
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    t: f64,
+    y: &State<B, N>,
+) -> Result<Option<super::closed_loop::Command<B, N>>, SimError> {
+    let cmd = if sys.sampled {
+        sys.held
+    } else {
+        sys.command(S::<B>::lit(t), y)
+    };
+    match sys.error.take() {
+        Some(e) => Err(SimError::Control(format!("at t = {t}: {e}"))),
+        None => Ok(cmd),
+    }
+}
+
 /// [`track`] on the state at `t` without forming a [`Sample`] (no
 /// allocation): this runs after every step.
 pub(crate) fn track_figures<B: Backend, const N: usize>(
@@ -71,14 +89,7 @@ pub(crate) fn track_figures<B: Backend, const N: usize>(
     t: f64,
     y: &State<B, N>,
 ) -> Result<(), SimError> {
-    let cmd = if sys.sampled {
-        sys.held
-    } else {
-        sys.command(S::<B>::lit(t), y)
-    };
-    if let Some(e) = sys.error.take() {
-        return Err(SimError::Control(format!("at t = {t}: {e}")));
-    }
+    let cmd = command_at(sys, t, y)?;
     let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);
     let e = r.orthogonality_error().to_f64_lossless();
     out.max_orthogonality_error = if e.is_nan() {
@@ -119,14 +130,7 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     t: f64,
     y: &State<B, N>,
 ) -> Result<Sample, SimError> {
-    let cmd = if sys.sampled {
-        sys.held
-    } else {
-        sys.command(S::<B>::lit(t), y)
-    };
-    if let Some(e) = sys.error.take() {
-        return Err(SimError::Control(format!("at t = {t}: {e}")));
-    }
+    let cmd = command_at(sys, t, y)?;
     let mut s = empty_sample();
     s.t = t;
     s.x = f3::<B>(y.body.x);
