@@ -337,6 +337,9 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
         Ok(stats)
     }
     fn reset(&mut self) {}
+    fn resampler(&self) -> Option<Self> {
+        Some(self.clone())
+    }
 }
 
 use lie::num_traits::One;

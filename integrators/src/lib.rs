@@ -245,6 +245,19 @@ pub trait Integrator<B: Backend, const N: usize> {
     /// a changed state themselves, so this is only needed when the *system*
     /// changed (a new mode, a new command) with the state unchanged.
     fn reset(&mut self) {}
+    /// A copy that integrates on its own without touching this stepper, for
+    /// a method whose one call may take several internal steps (an adaptive
+    /// one): a simulation samples inside such a call by integrating the
+    /// copy from the call's start to the sample, since a cubic through the
+    /// call's two ends would not keep the method's accuracy over a long
+    /// call. `None` (the default) for one-step-per-call methods, which are
+    /// sampled by the cubic Hermite extension ([`dense`]).
+    fn resampler(&self) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        None
+    }
 }
 
 /// Takes `n` steps of size `h` from `t0` (see the crate example); the time of step `k` is

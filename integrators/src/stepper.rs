@@ -171,4 +171,10 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Stepper<B, N> {
             _ => {}
         }
     }
+    fn resampler(&self) -> Option<Self> {
+        match self {
+            Stepper::Dopri(s) => Some(Stepper::Dopri(s.clone())),
+            _ => None,
+        }
+    }
 }

@@ -89,14 +89,17 @@ impl Emit<'_, '_> {
     }
 
     /// Samples every record instant strictly inside the step from
-    /// `(t0, y0)` to `(t1, y1)` from its continuous extension. The loads
-    /// evaluated for it are not counted in the run's evaluations, which
-    /// stay the same with and without recording.
+    /// `(t0, y0)` to `(t1, y1)` from its continuous extension (for an
+    /// adaptive stepper, by integrating a copy of it from `t0`: see
+    /// [`Integrator::resampler`]). The loads evaluated for it are not
+    /// counted in the run's evaluations, which stay the same with and
+    /// without recording; the stepper itself is not touched.
     #[allow(clippy::too_many_arguments)]
-    fn inside<B: Backend, const N: usize>(
+    fn inside<B: Backend, const N: usize, I: Integrator<B, N>>(
         &mut self,
         out: &mut RunOutput,
         sys: &mut ClosedLoop<'_, '_, B, N>,
+        stepper: &I,
         t0: f64,
         y0: &State<B, N>,
         t1: f64,
@@ -107,6 +110,20 @@ impl Emit<'_, '_> {
         }
         let l = S::<B>::lit;
         let counted = sys.evaluations;
+        if let Some(mut copy) = stepper.resampler() {
+            while self.rec > 0.0 && self.next() < t1 - 1e-9 * self.rec {
+                let tk = self.next();
+                self.k += 1;
+                let mut y = *y0;
+                copy.reset();
+                let stepped = copy.step(sys, l(t0), l(tk - t0), &mut y);
+                sys.evaluations = counted;
+                stepped.map_err(|e| SimError::Step(format!("sampling at t = {tk}: {e}")))?;
+                let s = sample(sys, tk, &y)?;
+                self.sample(out, s)?;
+            }
+            return Ok(());
+        }
         let l0 = sys.load(l(t0), y0);
         let l1 = sys.load(l(t1), y1);
         sys.evaluations = counted;
@@ -352,7 +369,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                     SatBranch::Inside
                 };
                 sys.plan[sys.active].mode.force_branch(c.index, pre);
-                emit.inside(&mut out, &mut sys, t, &before, tc, &y)?;
+                emit.inside(&mut out, &mut sys, &stepper, t, &before, tc, &y)?;
                 sys.plan[sys.active].mode.force_branch(c.index, post);
                 track_state(&mut out, &mut sys, tc, &y)?;
                 emit.exact(&mut out, &mut sys, tc, &y)?;
@@ -378,7 +395,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                     &before,
                     &y,
                 )?;
-                emit.inside(&mut out, &mut sys, t, &before, tc, &y_c)?;
+                emit.inside(&mut out, &mut sys, &stepper, t, &before, tc, &y_c)?;
                 release(&mut sys, bps.len(), &mut forced_for_next_step);
                 y = y_c;
                 if let Some(sw) = sys.switch(tc, &mut y) {
@@ -409,7 +426,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
                     &before,
                     &y,
                 )?;
-                emit.inside(&mut out, &mut sys, t, &before, tc, &y_c)?;
+                emit.inside(&mut out, &mut sys, &stepper, t, &before, tc, &y_c)?;
                 y = y_c;
                 let s = sample(&mut sys, tc, &y)?;
                 track(&mut out, &s);
@@ -421,7 +438,7 @@ pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
             }
             // Samples inside the step, on the branches it was integrated
             // on; then the law decides its branches from the state again.
-            emit.inside(&mut out, &mut sys, t, &before, ts, &y)?;
+            emit.inside(&mut out, &mut sys, &stepper, t, &before, ts, &y)?;
             release(&mut sys, bps.len(), &mut forced_for_next_step);
             t = ts;
             j += 1;
