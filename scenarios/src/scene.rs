@@ -543,28 +543,26 @@ impl Scene {
     /// Checks values; on failure returns the dotted key and a message naming
     /// it and the value.
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
-        fn pos(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err((key, format!("`{key}` = {v}: must be finite and > 0")))
-            }
-        }
-        fn nonneg(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err((key, format!("`{key}` = {v}: must be finite and ≥ 0")))
-            }
-        }
-        fn finite3(key: &'static str, v: &[f64; 3]) -> Result<(), (&'static str, String)> {
-            if v.iter().all(|x| x.is_finite()) {
-                Ok(())
-            } else {
-                Err((key, format!("`{key}` = {v:?}: must be finite")))
-            }
-        }
         pos("duration", self.duration)?;
+        self.validate_vehicle()?;
+        self.validate_settings()?;
+        let mut last = 0.0;
+        for (k, seg) in self.plan.iter().enumerate() {
+            self.validate_segment(k, seg, &mut last)?;
+            validate_references(k, seg)?;
+        }
+        if !self.plan.is_empty() && self.vehicle.kind == VehicleKind::FreeRigidBody {
+            return Err((
+                "plan",
+                "a free rigid body has no actuators; remove the `[[plan]]` segments".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The vehicle table: positive mass, arm and principal moments that a
+    /// rigid body can have (unless the file allows otherwise), finite rest.
+    fn validate_vehicle(&self) -> Result<(), (&'static str, String)> {
         let ve = &self.vehicle;
         pos("vehicle.mass", ve.mass)?;
         for j in ve.inertia {
@@ -604,6 +602,11 @@ impl Scene {
                 ),
             ));
         }
+        Ok(())
+    }
+
+    /// Disturbances, initial state, gains, integrator, control, recording.
+    fn validate_settings(&self) -> Result<(), (&'static str, String)> {
         if let Some(d) = &self.disturbance {
             finite3("disturbance.force", &d.force)?;
             finite3("disturbance.moment", &d.moment)?;
@@ -663,152 +666,173 @@ impl Scene {
             nonneg("control.rate", self.control.rate)?;
         }
         pos("record.sample", self.record.sample)?;
-        let mut last = 0.0;
-        for (k, seg) in self.plan.iter().enumerate() {
-            let is_last = k + 1 == self.plan.len();
-            if let Some(p) = seg.until_psi {
-                if seg.until.is_some() {
-                    return Err((
-                        "until_psi",
-                        format!("plan[{k}] has both `until` and `until_psi`; give one"),
-                    ));
-                }
-                if !(p.is_finite() && p > 0.0 && p < 2.0) {
-                    return Err((
-                        "until_psi",
-                        format!("plan[{k}] `until_psi` = {p}: must be in (0, 2)"),
-                    ));
-                }
-                if is_last {
-                    return Err((
-                        "until_psi",
-                        format!(
-                            "plan[{k}] is the last segment: `until_psi` has nothing to switch to"
-                        ),
-                    ));
-                }
+        Ok(())
+    }
+
+    /// Segment `k`: its switch (`until` after the previous one's, or
+    /// `until_psi` in (0, 2) with a segment after it) and its mode's
+    /// references; `last` is the previous `until`.
+    fn validate_segment(
+        &self,
+        k: usize,
+        seg: &SegmentSpec,
+        last: &mut f64,
+    ) -> Result<(), (&'static str, String)> {
+        let is_last = k + 1 == self.plan.len();
+        if let Some(p) = seg.until_psi {
+            if seg.until.is_some() {
+                return Err((
+                    "until_psi",
+                    format!("plan[{k}] has both `until` and `until_psi`; give one"),
+                ));
             }
-            match seg.until {
-                // A Ψ-switched segment's own checks are above; its mode and
-                // references are checked below like any other's.
-                _ if seg.until_psi.is_some() => {}
-                Some(u) if !(u.is_finite() && u > last) => {
-                    return Err((
-                        "until",
-                        format!("plan[{k}] `until` = {u}: must be finite and after {last}"),
-                    ));
-                }
-                Some(u) => last = u,
-                None if !is_last => {
-                    return Err((
-                        "until",
-                        format!("plan[{k}] has no `until`; only the last segment may omit it"),
-                    ));
-                }
-                None => {}
+            if !(p.is_finite() && p > 0.0 && p < 2.0) {
+                return Err((
+                    "until_psi",
+                    format!("plan[{k}] `until_psi` = {p}: must be in (0, 2)"),
+                ));
             }
-            match seg.mode {
-                Mode::Attitude if seg.attitude.is_none() => {
-                    return Err((
-                        "mode",
-                        format!(
-                            "plan[{k}] is `attitude` mode but has no `[plan.attitude]` reference"
-                        ),
-                    ));
-                }
-                Mode::Attitude
-                    if seg.thrust == ThrustSpec::PdProjection && seg.position.is_none() =>
-                {
-                    return Err((
-                        "thrust",
-                        format!(
-                            "plan[{k}] `thrust` = \"pd-projection\" needs a `[plan.position]` target"
-                        ),
-                    ));
-                }
-                Mode::Position if seg.position.is_none() => {
-                    return Err((
-                        "mode",
-                        format!(
-                            "plan[{k}] is `position` mode but has no `[plan.position]` reference"
-                        ),
-                    ));
-                }
-                Mode::Position
-                    if !matches!(
-                        self.vehicle.kind,
-                        VehicleKind::Quadrotor | VehicleKind::Hexarotor | VehicleKind::Custom(_)
-                    ) =>
-                {
-                    return Err((
-                        "mode",
-                        format!(
-                            "plan[{k}] is `position` mode but the vehicle `{}` cannot translate",
-                            self.vehicle.kind.name()
-                        ),
-                    ));
-                }
-                _ => {}
-            }
-            // Reference parameters: a NaN here would surface only as a
-            // non-finite command mid-run.
-            let num = |key: &'static str, v: f64| -> Result<(), (&'static str, String)> {
-                if v.is_finite() {
-                    Ok(())
-                } else {
-                    Err((key, format!("plan[{k}] `{key}` = {v}: must be finite")))
-                }
-            };
-            let num3 = |key: &'static str, v: &[f64; 3]| -> Result<(), (&'static str, String)> {
-                if v.iter().all(|c| c.is_finite()) {
-                    Ok(())
-                } else {
-                    Err((key, format!("plan[{k}] `{key}` = {v:?}: must be finite")))
-                }
-            };
-            match &seg.attitude {
-                Some(AttitudeRef::EulerExperiment {
-                    amplitude,
-                    frequency,
-                }) => {
-                    num("amplitude", *amplitude)?;
-                    num("frequency", *frequency)?;
-                }
-                Some(AttitudeRef::Hold { rotation }) => num3("rotation", rotation)?,
-                Some(AttitudeRef::PaperFlip {}) | None => {}
-            }
-            match &seg.position {
-                Some(PositionRef::Hold { x, b1d }) => {
-                    num3("x", x)?;
-                    num3("b1d", b1d)?;
-                    if b1d.iter().map(|c| c * c).sum::<f64>() < 1e-12 {
-                        return Err((
-                            "b1d",
-                            format!("plan[{k}] `b1d` = {b1d:?}: must be non-zero"),
-                        ));
-                    }
-                }
-                Some(PositionRef::FigureEight {
-                    center,
-                    a,
-                    b,
-                    omega,
-                }) => {
-                    num3("center", center)?;
-                    num("a", *a)?;
-                    num("b", *b)?;
-                    num("omega", *omega)?;
-                }
-                None => {}
+            if is_last {
+                return Err((
+                    "until_psi",
+                    format!("plan[{k}] is the last segment: `until_psi` has nothing to switch to"),
+                ));
             }
         }
-        if !self.plan.is_empty() && self.vehicle.kind == VehicleKind::FreeRigidBody {
-            return Err((
-                "plan",
-                "a free rigid body has no actuators; remove the `[[plan]]` segments".into(),
-            ));
+        match seg.until {
+            // A Ψ-switched segment's own checks are above; its mode and
+            // references are checked below like any other's.
+            _ if seg.until_psi.is_some() => {}
+            Some(u) if !(u.is_finite() && u > *last) => {
+                return Err((
+                    "until",
+                    format!("plan[{k}] `until` = {u}: must be finite and after {last}"),
+                ));
+            }
+            Some(u) => *last = u,
+            None if !is_last => {
+                return Err((
+                    "until",
+                    format!("plan[{k}] has no `until`; only the last segment may omit it"),
+                ));
+            }
+            None => {}
+        }
+        match seg.mode {
+            Mode::Attitude if seg.attitude.is_none() => {
+                return Err((
+                    "mode",
+                    format!("plan[{k}] is `attitude` mode but has no `[plan.attitude]` reference"),
+                ));
+            }
+            Mode::Attitude if seg.thrust == ThrustSpec::PdProjection && seg.position.is_none() => {
+                return Err((
+                    "thrust",
+                    format!(
+                        "plan[{k}] `thrust` = \"pd-projection\" needs a `[plan.position]` target"
+                    ),
+                ));
+            }
+            Mode::Position if seg.position.is_none() => {
+                return Err((
+                    "mode",
+                    format!("plan[{k}] is `position` mode but has no `[plan.position]` reference"),
+                ));
+            }
+            Mode::Position
+                if !matches!(
+                    self.vehicle.kind,
+                    VehicleKind::Quadrotor | VehicleKind::Hexarotor | VehicleKind::Custom(_)
+                ) =>
+            {
+                return Err((
+                    "mode",
+                    format!(
+                        "plan[{k}] is `position` mode but the vehicle `{}` cannot translate",
+                        self.vehicle.kind.name()
+                    ),
+                ));
+            }
+            _ => {}
         }
         Ok(())
+    }
+}
+
+/// Segment `k`'s reference parameters: a NaN here would surface only as a
+/// non-finite command mid-run.
+fn validate_references(k: usize, seg: &SegmentSpec) -> Result<(), (&'static str, String)> {
+    let num = |key: &'static str, v: f64| -> Result<(), (&'static str, String)> {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            Err((key, format!("plan[{k}] `{key}` = {v}: must be finite")))
+        }
+    };
+    let num3 = |key: &'static str, v: &[f64; 3]| -> Result<(), (&'static str, String)> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(())
+        } else {
+            Err((key, format!("plan[{k}] `{key}` = {v:?}: must be finite")))
+        }
+    };
+    match &seg.attitude {
+        Some(AttitudeRef::EulerExperiment {
+            amplitude,
+            frequency,
+        }) => {
+            num("amplitude", *amplitude)?;
+            num("frequency", *frequency)?;
+        }
+        Some(AttitudeRef::Hold { rotation }) => num3("rotation", rotation)?,
+        Some(AttitudeRef::PaperFlip {}) | None => {}
+    }
+    match &seg.position {
+        Some(PositionRef::Hold { x, b1d }) => {
+            num3("x", x)?;
+            num3("b1d", b1d)?;
+            if b1d.iter().map(|c| c * c).sum::<f64>() < 1e-12 {
+                return Err((
+                    "b1d",
+                    format!("plan[{k}] `b1d` = {b1d:?}: must be non-zero"),
+                ));
+            }
+        }
+        Some(PositionRef::FigureEight {
+            center,
+            a,
+            b,
+            omega,
+        }) => {
+            num3("center", center)?;
+            num("a", *a)?;
+            num("b", *b)?;
+            num("omega", *omega)?;
+        }
+        None => {}
+    }
+    Ok(())
+}
+
+fn pos(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err((key, format!("`{key}` = {v}: must be finite and > 0")))
+    }
+}
+fn nonneg(key: &'static str, v: f64) -> Result<(), (&'static str, String)> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err((key, format!("`{key}` = {v}: must be finite and ≥ 0")))
+    }
+}
+fn finite3(key: &'static str, v: &[f64; 3]) -> Result<(), (&'static str, String)> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err((key, format!("`{key}` = {v:?}: must be finite")))
     }
 }
 
