@@ -410,6 +410,97 @@ pub const EXIT_SIGINT: u8 = 130;
 /// See [`EXIT_SIGINT`].
 pub const EXIT_SIGTERM: u8 = 143;
 
+/// Refuses a run of more than 10⁹ steps, saying how long it would take.
+fn refuse_huge(scene: &Scene) -> Result<(), String> {
+    let steps = estimated_steps(scene);
+    if steps <= 1e9 {
+        return Ok(());
+    }
+    // About 1 µs a closed-loop step here (cargo xtask bench).
+    let secs = steps * 1e-6;
+    let took = if secs < 86_400.0 {
+        format!("{:.1} hours", secs / 3600.0)
+    } else if secs < 3.2e7 {
+        format!("{:.0} days", secs / 86_400.0)
+    } else {
+        format!("{:.1e} years", secs / 3.156e7)
+    };
+    Err(format!(
+        "{}: {steps:.2e} steps ({} s at dt = {} s), about {took} at 1 µs a step; pass --yes to run it anyway",
+        scene.name, scene.duration, scene.integrator.dt
+    ))
+}
+
+/// The flags SIGINT and SIGTERM set: `cancel` (either), and which one.
+type SignalFlags = (Arc<AtomicBool>, Arc<AtomicBool>, Arc<AtomicBool>);
+
+/// SIGINT and SIGTERM set `cancel` (and say which); the loop stops at the
+/// current step and the files are closed. A second signal while the first
+/// is being handled ends the process at once.
+fn install_signal_flags() -> Result<SignalFlags, String> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let by_int = Arc::new(AtomicBool::new(false));
+    let by_term = Arc::new(AtomicBool::new(false));
+    for (sig, which) in [(SIGINT, &by_int), (SIGTERM, &by_term)] {
+        let reg = |r: std::io::Result<signal_hook::SigId>| {
+            r.map(|_| ())
+                .map_err(|e| format!("installing the signal handler: {e}"))
+        };
+        reg(signal_hook::flag::register_conditional_shutdown(
+            sig,
+            128 + sig,
+            Arc::clone(&cancel),
+        ))?;
+        reg(signal_hook::flag::register(sig, Arc::clone(&cancel)))?;
+        reg(signal_hook::flag::register(sig, Arc::clone(which)))?;
+    }
+    Ok((cancel, by_int, by_term))
+}
+
+/// How a run ended, for its outputs and its exit status: the warnings
+/// (the run's and the health check's, printed here), the `stopped` record
+/// of a run cut short (by a signal: which one; by an error: the error),
+/// and the status (0; 130/143 after SIGINT/SIGTERM; 1 after an error).
+fn outcome(
+    scene: &Scene,
+    result: &Result<RunOutput, SimError>,
+    last_t: Option<f64>,
+    by_int: bool,
+    by_term: bool,
+) -> (Vec<String>, Option<output::Stopped>, u8) {
+    match result {
+        Ok(out) => {
+            let mut w = out.warnings.clone();
+            let health = health_warnings(scene, out);
+            for h in &health {
+                eprintln!("warning: {}: {h}", scene.name);
+            }
+            w.extend(health);
+            let (reason, status) = if by_term {
+                ("SIGTERM", EXIT_SIGTERM)
+            } else if by_int {
+                ("SIGINT", EXIT_SIGINT)
+            } else {
+                ("cancelled", EXIT_SIGINT)
+            };
+            let stopped = out.interrupted_at.map(|t| output::Stopped {
+                t,
+                reason: reason.into(),
+            });
+            let status = if stopped.is_some() { status } else { 0 };
+            (w, stopped, status)
+        }
+        Err(e) => (
+            Vec::new(),
+            Some(output::Stopped {
+                t: last_t.unwrap_or(0.0),
+                reason: format!("error: {e}"),
+            }),
+            1,
+        ),
+    }
+}
+
 /// `cargo xtask run`: returns the process's exit status (0, or 130/143
 /// after SIGINT/SIGTERM with the outputs closed).
 pub fn run(a: RunArgs) -> Result<u8, String> {
@@ -435,41 +526,10 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         a.plot.as_deref(),
         scene_file.exists().then_some(scene_file),
     )?;
-    let steps = estimated_steps(&scene);
-    if steps > 1e9 && !a.yes {
-        // About 1 µs a closed-loop step here (cargo xtask bench).
-        let secs = steps * 1e-6;
-        let took = if secs < 86_400.0 {
-            format!("{:.1} hours", secs / 3600.0)
-        } else if secs < 3.2e7 {
-            format!("{:.0} days", secs / 86_400.0)
-        } else {
-            format!("{:.1e} years", secs / 3.156e7)
-        };
-        return Err(format!(
-            "{}: {steps:.2e} steps ({} s at dt = {} s), about {took} at 1 µs a step; pass --yes to run it anyway",
-            scene.name, scene.duration, scene.integrator.dt
-        ));
+    if !a.yes {
+        refuse_huge(&scene)?;
     }
-    // SIGINT and SIGTERM set `cancel` (and say which); the loop stops at
-    // the current step and the files are closed below. A second signal
-    // while the first is being handled ends the process at once.
-    let cancel = Arc::new(AtomicBool::new(false));
-    let by_int = Arc::new(AtomicBool::new(false));
-    let by_term = Arc::new(AtomicBool::new(false));
-    for (sig, which) in [(SIGINT, &by_int), (SIGTERM, &by_term)] {
-        let reg = |r: std::io::Result<signal_hook::SigId>| {
-            r.map(|_| ())
-                .map_err(|e| format!("installing the signal handler: {e}"))
-        };
-        reg(signal_hook::flag::register_conditional_shutdown(
-            sig,
-            128 + sig,
-            Arc::clone(&cancel),
-        ))?;
-        reg(signal_hook::flag::register(sig, Arc::clone(&cancel)))?;
-        reg(signal_hook::flag::register(sig, Arc::clone(which)))?;
-    }
+    let (cancel, by_int, by_term) = install_signal_flags()?;
     // The files are created now (as `.partial`) and written as the run
     // goes; memory does not grow with the duration.
     let mut csv = a
@@ -507,43 +567,13 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     // Close the files whatever happened: an error mid-run leaves
     // everything logged before it intact, with a `stopped` record saying
     // where and why.
-    let (mut warnings, stopped, status) = match &result {
-        Ok(out) => {
-            let mut w = out.warnings.clone();
-            let health = health_warnings(&scene, out);
-            for h in &health {
-                eprintln!("warning: {}: {h}", scene.name);
-            }
-            w.extend(health);
-            let stopped = out.interrupted_at.map(|t| {
-                let sig = if by_term.load(Ordering::Relaxed) {
-                    "SIGTERM"
-                } else if by_int.load(Ordering::Relaxed) {
-                    "SIGINT"
-                } else {
-                    "cancelled"
-                };
-                output::Stopped {
-                    t,
-                    reason: sig.into(),
-                }
-            });
-            let status = match stopped.as_ref().map(|s| s.reason.as_str()) {
-                Some("SIGTERM") => EXIT_SIGTERM,
-                Some(_) => EXIT_SIGINT,
-                None => 0,
-            };
-            (w, stopped, status)
-        }
-        Err(e) => (
-            Vec::new(),
-            Some(output::Stopped {
-                t: last_t.unwrap_or(0.0),
-                reason: format!("error: {e}"),
-            }),
-            1,
-        ),
-    };
+    let (mut warnings, stopped, status) = outcome(
+        &scene,
+        &result,
+        last_t,
+        by_int.load(Ordering::Relaxed),
+        by_term.load(Ordering::Relaxed),
+    );
     // The report goes to stderr when an output streams to stdout
     // (`--csv /dev/stdout | ...`), so it does not land among the rows.
     let to_stdout = [a.csv.as_deref(), a.mcap.as_deref()]
