@@ -38,6 +38,11 @@ pub struct OutputError {
     pub path: PathBuf,
     /// What went wrong.
     pub message: String,
+    /// The operating system's error kind when the failure was an I/O
+    /// error (`BrokenPipe` when a reader such as `head` closed the pipe,
+    /// `StorageFull`, …), so that a caller can tell them apart without
+    /// reading the message.
+    pub io_kind: Option<std::io::ErrorKind>,
 }
 
 impl std::fmt::Display for OutputError {
@@ -52,6 +57,15 @@ fn err(path: &Path, e: impl std::fmt::Display) -> OutputError {
     OutputError {
         path: path.to_path_buf(),
         message: e.to_string(),
+        io_kind: None,
+    }
+}
+
+/// An I/O error, keeping its kind.
+fn err_io(path: &Path, e: &std::io::Error) -> OutputError {
+    OutputError {
+        io_kind: Some(e.kind()),
+        ..err(path, e)
     }
 }
 
@@ -125,13 +139,20 @@ pub struct Stopped {
 /// what the reader needs.
 fn err_chain(path: &Path, e: &dyn std::error::Error) -> OutputError {
     let mut message = e.to_string();
+    let mut io_kind = None;
     let mut cause = e.source();
     while let Some(c) = cause {
         message.push_str(": ");
         message.push_str(&c.to_string());
+        if let Some(io) = c.downcast_ref::<std::io::Error>() {
+            io_kind = Some(io.kind());
+        }
         cause = c.source();
     }
-    err(path, message)
+    OutputError {
+        io_kind,
+        ..err(path, message)
+    }
 }
 
 fn temp_path(path: &Path) -> PathBuf {
@@ -209,7 +230,7 @@ impl Target {
                 let f = std::fs::OpenOptions::new()
                     .write(true)
                     .open(path)
-                    .map_err(|e| err(path, e))?;
+                    .map_err(|e| err_io(path, &e))?;
                 let t = Self {
                     path: path.to_path_buf(),
                     tmp: None,
@@ -221,7 +242,7 @@ impl Target {
                 // not the link.
                 let real = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
                 let tmp = temp_path(&real);
-                let f = File::create(&tmp).map_err(|e| err(path, e))?;
+                let f = File::create(&tmp).map_err(|e| err_io(path, &e))?;
                 let t = Self {
                     path: real,
                     tmp: Some(tmp),
@@ -235,8 +256,8 @@ impl Target {
     /// `/dev/null` fails) and renames the `.partial` over the target.
     fn commit(&mut self, f: &File, shown: &Path) -> Result<(), OutputError> {
         if let Some(tmp) = &self.tmp {
-            f.sync_all().map_err(|e| err(shown, e))?;
-            std::fs::rename(tmp, &self.path).map_err(|e| err(shown, e))?;
+            f.sync_all().map_err(|e| err_io(shown, &e))?;
+            std::fs::rename(tmp, &self.path).map_err(|e| err_io(shown, &e))?;
             self.tmp = None;
         }
         Ok(())
@@ -321,14 +342,14 @@ struct Worker<T, R> {
     path: PathBuf,
     what: &'static str,
     tx: Option<std::sync::mpsc::SyncSender<T>>,
-    thread: Option<std::thread::JoinHandle<Result<R, String>>>,
+    thread: Option<std::thread::JoinHandle<Result<R, OutputError>>>,
 }
 
 impl<T: Send + 'static, R: Send + 'static> Worker<T, R> {
     fn spawn(
         path: &Path,
         what: &'static str,
-        work: impl FnOnce(std::sync::mpsc::Receiver<T>) -> Result<R, String> + Send + 'static,
+        work: impl FnOnce(std::sync::mpsc::Receiver<T>) -> Result<R, OutputError> + Send + 'static,
     ) -> Result<Self, OutputError> {
         let (tx, rx) = std::sync::mpsc::sync_channel::<T>(2);
         let thread = std::thread::Builder::new()
@@ -368,7 +389,7 @@ impl<T: Send + 'static, R: Send + 'static> Worker<T, R> {
             )
         })?;
         match h.join() {
-            Ok(r) => r.map_err(|e| err(&self.path, e)),
+            Ok(r) => r,
             Err(_) => Err(err(
                 &self.path,
                 format!("the {} thread panicked", self.what),
@@ -433,8 +454,9 @@ impl CsvWriter {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let (target, f) = Target::open(path)?;
         let w = BufWriter::with_capacity(1 << 20, f);
+        let csv_path = path.to_path_buf();
         let worker = Worker::spawn(path, "csv-writer", move |rx| {
-            write_csv_batches(w, rx).map_err(|e| e.to_string())
+            write_csv_batches(w, rx).map_err(|e| err_io(&csv_path, &e))
         })?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -474,7 +496,7 @@ impl CsvWriter {
         }
         self.send()?;
         let w = self.worker.join()?;
-        let f = w.into_inner().map_err(|e| err(&self.path, e.error()))?;
+        let f = w.into_inner().map_err(|e| err_io(&self.path, e.error()))?;
         self.target.commit(&f, &self.path)?;
         Ok(self.rows)
     }
@@ -792,8 +814,9 @@ impl McapWriter {
                 .add_channel(schema, TOPICS[k], "protobuf", &meta)
                 .map_err(e)?;
         }
+        let mcap_path = path.to_path_buf();
         let worker = Worker::spawn(path, "mcap-writer", move |rx| {
-            write_batches(w, ch, rx).map_err(|e| err_chain(Path::new(""), &e).message)
+            write_batches(w, ch, rx).map_err(|e| err_chain(&mcap_path, &e))
         })?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -911,7 +934,7 @@ impl McapWriter {
             .into_inner()
             .into_inner()
             .into_inner()
-            .map_err(|x| err(&path, x.error()))?;
+            .map_err(|x| err_io(&path, x.error()))?;
         self.target.commit(&f, &path)?;
         Ok(self.messages)
     }

@@ -409,6 +409,9 @@ impl output::Sink for LastTime<'_> {
 pub const EXIT_SIGINT: u8 = 130;
 /// See [`EXIT_SIGINT`].
 pub const EXIT_SIGTERM: u8 = 143;
+/// The status of a run whose output pipe was closed by its reader (128 +
+/// SIGPIPE), as `yes | head` reports it.
+pub const EXIT_SIGPIPE: u8 = 141;
 
 /// Refuses a run of more than 10⁹ steps, saying how long it would take.
 fn refuse_huge(scene: &Scene) -> Result<(), String> {
@@ -599,6 +602,15 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
             m,
         )
     });
+    // A reader that closed its pipe (`--csv /dev/stdout | head`) ends the
+    // run as a shell pipeline expects: quietly, with SIGPIPE's status.
+    let pipe_closed = |e: &output::OutputError| e.io_kind == Some(std::io::ErrorKind::BrokenPipe);
+    if matches!(&result, Err(SimError::Output(e)) if pipe_closed(e))
+        || matches!(&csv_done, Some(Err(e)) if pipe_closed(e))
+        || matches!(&mcap_done, Some(Err(e)) if pipe_closed(e))
+    {
+        return Ok(EXIT_SIGPIPE);
+    }
     if let Some(rows) = csv_done {
         let rows = rows.map_err(|e| e.to_string())?;
         let p = a.csv.as_deref().expect("a CSV writer has a path");

@@ -164,3 +164,37 @@ fn sigkill_leaves_only_partial_files() {
     assert!(!d.join("a.csv").exists() && !d.join("a.mcap").exists());
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// `--csv /dev/stdout | head -3`: the rows stream to the pipe, the
+/// summary goes to stderr, and when the reader closes the pipe the run
+/// ends quietly with SIGPIPE's status (141), as `yes | head` does, and no
+/// error message.
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::io::{BufRead, BufReader};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args([
+            "run",
+            "hover-disturbed",
+            "--duration",
+            "100",
+            "--csv",
+            "/dev/stdout",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let header = lines.next().unwrap().unwrap();
+    assert!(header.starts_with("t,x1,x2,x3"), "{header}");
+    for _ in 0..2 {
+        let row = lines.next().unwrap().unwrap();
+        assert!(row.split(',').count() == 26, "{row}");
+    }
+    drop(lines); // the reader goes away, as `head` does
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "stderr: {err}");
+    assert!(!err.contains("error"), "{err}");
+}
