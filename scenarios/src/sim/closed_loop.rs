@@ -34,7 +34,33 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub error: Option<String>,
 }
 
-impl<B: Backend, const N: usize> ClosedLoop<'_, '_, B, N> {
+impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
+    /// `vehicle` flying `plan` from its first segment, continuous control,
+    /// `m` integral slots then `nv` vehicle states; an error for a singular
+    /// inertia.
+    pub fn new(
+        vehicle: &'s dyn Vehicle<B>,
+        plan: &'s mut [Segment<'a, B>],
+        m: usize,
+        nv: usize,
+    ) -> Result<Self, super::SimError> {
+        let inertia_inv = lie::ops::inverse::<B>(vehicle.inertia())
+            .ok_or_else(|| super::SimError::Scene("inertia is singular".into()))?;
+        Ok(Self {
+            vehicle,
+            plan,
+            active: 0,
+            m,
+            nv,
+            held: None,
+            sampled: false,
+            compensate: false,
+            inertia_inv,
+            evaluations: 0,
+            error: None,
+        })
+    }
+
     /// The active mode's command at `(t, y)`; `None` without a plan or when
     /// the mode rejects its input (the error is kept for the report).
     #[inline]

@@ -107,8 +107,8 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
 /// O(h⁴) accurate; for Dormand–Prince's long calls that error, times the
 /// rate, was 1e-7 in the state), and lands the slot on ±level. The active
 /// mode integrates up to the crossing on the branch it was on and is left
-/// forced onto the far branch. Returns the located time, the steps taken
-/// and the branch the step up to the crossing was integrated on.
+/// forced onto the far branch. Returns the located time, the steps taken,
+/// and the branches before and after the crossing.
 pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
@@ -117,7 +117,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     h: f64,
     before: &State<B, N>,
     y: &mut State<B, N>,
-) -> Result<(f64, u64, SatBranch), SimError> {
+) -> Result<(f64, u64, SatBranch, SatBranch), SimError> {
     use integrators::System;
     let l = S::<B>::lit;
     let mut steps = 0u64;
@@ -155,25 +155,20 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     y.extra[c.slot] = l(c.target);
     sys.plan[sys.active].mode.force_branch(c.index, post);
     stepper.reset();
-    Ok((tc, steps, pre))
+    Ok((tc, steps, pre, post))
 }
 
 /// The first time in `(t, ts]` at which a condition (the active
-/// segment's, or the run's stop condition) holds, given that it holds at the step's end `ts = t + h` (state `y`):
+/// segment's, or the run's stop condition) holds, given that it holds at
+/// the end `ts = t + h` (state `y`) of the step `(t, ts, h, before, y)`:
 /// bisection on redone steps from `(t, before)` to 1e-12 h. Returns the
 /// time and the state there.
-// The step is passed as its parts (t, ts, h, before, after) as everywhere
-// in this file; the predicate is the segment's condition or the stop one.
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[allow(clippy::type_complexity)]
 pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
     holds: &mut dyn FnMut(&mut ClosedLoop<'_, '_, B, N>, f64, &State<B, N>) -> bool,
-    t: f64,
-    ts: f64,
-    h: f64,
-    before: &State<B, N>,
-    y: &State<B, N>,
+    (t, ts, h, before, y): (f64, f64, f64, &State<B, N>, &State<B, N>),
 ) -> Result<(f64, State<B, N>), SimError> {
     let l = S::<B>::lit;
     let (mut lo, mut hi) = (0.0, h);

@@ -42,10 +42,7 @@ pub(crate) fn empty_sample() -> Sample {
 /// end, located event and the start, never an interpolated sample: the
 /// extrema do not depend on what is recorded).
 pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
-    out.max_thrust = out.max_thrust.max(s.thrust.abs());
-    out.max_rotor = s.rotors.iter().fold(out.max_rotor, |a, r| a.max(r.abs()));
-    // ‖RᵀR − I‖_F from the rows (a NaN propagates through the max as NaN
-    // would not: keep it visible).
+    // ‖RᵀR − I‖_F from the rows.
     let r = &s.r;
     let mut e2 = 0.0;
     for i in 0..3 {
@@ -54,13 +51,46 @@ pub(crate) fn track(out: &mut RunOutput, s: &Sample) {
             e2 += d * d;
         }
     }
-    let e = e2.sqrt();
-    out.max_orthogonality_error = if e.is_nan() {
+    fold(out, s.thrust, s.psi, e2.sqrt(), s.rotors.iter().copied());
+}
+
+/// Folds one state's figures into the run's extrema; a NaN distance from
+/// SO(3) stays NaN (`max` would drop it) so that it is seen.
+fn fold(out: &mut RunOutput, thrust: f64, psi: f64, ortho: f64, rotors: impl Iterator<Item = f64>) {
+    out.max_thrust = out.max_thrust.max(thrust.abs());
+    out.max_rotor = rotors.fold(out.max_rotor, |a, r| a.max(r.abs()));
+    out.max_orthogonality_error = if ortho.is_nan() {
         f64::NAN
     } else {
-        out.max_orthogonality_error.max(e)
+        out.max_orthogonality_error.max(ortho)
     };
-    out.psi_range = (out.psi_range.0.min(s.psi), out.psi_range.1.max(s.psi));
+    out.psi_range = (out.psi_range.0.min(psi), out.psi_range.1.max(psi));
+}
+
+/// The rotor thrusts that command `c` asks of the vehicle in state `y`
+/// (through its actuator dynamics), into `buf`: at most 8 rotors, on the
+/// stack. Returns how many.
+fn rotor_thrusts<B: Backend, const N: usize>(
+    sys: &ClosedLoop<'_, '_, B, N>,
+    c: &super::closed_loop::Command<B, N>,
+    y: &State<B, N>,
+    buf: &mut [S<B>; 8],
+) -> Result<usize, SimError> {
+    let vehicle = sys.vehicle;
+    let n = vehicle.actuator_count().min(8);
+    if n > 0 {
+        let w = vehicle.applied_wrench(
+            &Wrench {
+                thrust: c.out.thrust,
+                moment: c.out.moment,
+            },
+            sys.vehicle_states(y),
+        );
+        vehicle
+            .actuators_from_wrench(&w, &mut buf[..n])
+            .map_err(|e| SimError::Scene(e.to_string()))?;
+    }
+    Ok(n)
 }
 
 /// The command acting at `(t, y)`: the held one under sampled control,
@@ -91,37 +121,16 @@ pub(crate) fn track_figures<B: Backend, const N: usize>(
 ) -> Result<(), SimError> {
     let cmd = command_at(sys, t, y)?;
     let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);
-    let e = r.orthogonality_error().to_f64_lossless();
-    out.max_orthogonality_error = if e.is_nan() {
-        f64::NAN
-    } else {
-        out.max_orthogonality_error.max(e)
-    };
+    let ortho = r.orthogonality_error().to_f64_lossless();
     let Some(c) = cmd else {
-        out.psi_range = (out.psi_range.0.min(0.0), out.psi_range.1.max(0.0));
+        fold(out, 0.0, 0.0, ortho, std::iter::empty());
         return Ok(());
     };
+    let mut buf = [S::<B>::lit(0.0); 8];
+    let n = rotor_thrusts(sys, &c, y, &mut buf)?;
     let psi = r.psi(c.out.desired).to_f64_lossless();
-    out.psi_range = (out.psi_range.0.min(psi), out.psi_range.1.max(psi));
-    out.max_thrust = out.max_thrust.max(c.out.thrust.to_f64_lossless().abs());
-    let vehicle = sys.vehicle;
-    let n = vehicle.actuator_count().min(8);
-    if n > 0 {
-        let mut buf = [S::<B>::lit(0.0); 8];
-        let w = vehicle.applied_wrench(
-            &Wrench {
-                thrust: c.out.thrust,
-                moment: c.out.moment,
-            },
-            sys.vehicle_states(y),
-        );
-        vehicle
-            .actuators_from_wrench(&w, &mut buf[..n])
-            .map_err(|e| SimError::Scene(e.to_string()))?;
-        out.max_rotor = buf[..n]
-            .iter()
-            .fold(out.max_rotor, |a, r| a.max(r.to_f64_lossless().abs()));
-    }
+    let rotors = buf[..n].iter().map(|r| r.to_f64_lossless());
+    fold(out, c.out.thrust.to_f64_lossless(), psi, ortho, rotors);
     Ok(())
 }
 
@@ -167,22 +176,10 @@ pub(crate) fn sample<B: Backend, const N: usize>(
             s.xd = d;
             s.ex = (0..3).map(|k| (s.x[k] - d[k]).powi(2)).sum::<f64>().sqrt();
         }
-        let n = vehicle.actuator_count();
+        let mut buf = [S::<B>::lit(0.0); 8];
+        let n = rotor_thrusts(sys, &c, y, &mut buf)?;
         if n > 0 {
-            // At most 8 rotors on the stack; more would need a bigger buffer.
-            let mut buf = [S::<B>::lit(0.0); 8];
-            let rotors = &mut buf[..n.min(8)];
-            let w = vehicle.applied_wrench(
-                &Wrench {
-                    thrust: c.out.thrust,
-                    moment: c.out.moment,
-                },
-                states,
-            );
-            vehicle
-                .actuators_from_wrench(&w, rotors)
-                .map_err(|e| SimError::Scene(e.to_string()))?;
-            s.rotors = rotors.iter().map(|r| r.to_f64_lossless()).collect();
+            s.rotors = buf[..n].iter().map(|r| r.to_f64_lossless()).collect();
         }
     } else {
         s.rd = s.r;
