@@ -878,7 +878,21 @@ fn non_finite(r: &mut Report, _quick: bool, dir: &Path) -> Result<(), String> {
         "the user must learn when it went bad",
     );
     // Read both files back.
-    let text = std::fs::read_to_string(&csv_path).map_err(|e| e.to_string())?;
+    let (n, t_last) = csv_read_back(r, &csv_path, rows, T_BAD)?;
+    mcap_read_back(r, &mcap_path, messages, n, t_last)?;
+    Ok(())
+}
+
+/// The non-finite case's CSV, read back: whole rows, increasing times, as
+/// many as the writer said, the last one just before the NaN at `t_bad`.
+/// Returns the row count and the last time.
+fn csv_read_back(
+    r: &mut Report,
+    csv_path: &Path,
+    rows: u64,
+    t_bad: f64,
+) -> Result<(u64, f64), String> {
+    let text = std::fs::read_to_string(csv_path).map_err(|e| e.to_string())?;
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default();
     let width = header.split(',').count();
@@ -898,10 +912,23 @@ fn non_finite(r: &mut Report, _quick: bool, dir: &Path) -> Result<(), String> {
         format!(
             "CSV: {n} rows (writer said {rows}), all whole, times increasing, last t = {t_last}"
         ),
-        whole && increasing && n == rows && n > 0 && (T_BAD - 0.011..T_BAD).contains(&t_last),
+        whole && increasing && n == rows && n > 0 && (t_bad - 0.011..t_bad).contains(&t_last),
         "everything sampled before the NaN is on disk, up to the last sample before it",
     );
-    let bytes = std::fs::read(&mcap_path).map_err(|e| e.to_string())?;
+    Ok((n, t_last))
+}
+
+/// The non-finite case's MCAP, read back: finished and indexed, every pose
+/// decodes, one pose per CSV row (`n`) up to `t_last`, and a `stopped`
+/// record there.
+fn mcap_read_back(
+    r: &mut Report,
+    mcap_path: &Path,
+    messages: u64,
+    n: u64,
+    t_last: f64,
+) -> Result<(), String> {
+    let bytes = std::fs::read(mcap_path).map_err(|e| e.to_string())?;
     let summary = mcap::Summary::read(&bytes)
         .map_err(|e| format!("{}: {e}", mcap_path.display()))?
         .and_then(|s| s.stats)
