@@ -195,96 +195,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
             if last {
                 hs = remaining;
             }
-            let stage = |sys: &mut Sys,
-                         c: f64,
-                         ys: State<B, N>,
-                         stats: &mut StepStats|
-             -> Result<Deriv<B, N>, StepError> {
-                stats.evaluations += 1;
-                Ok(body.deriv(&ys, &eval(sys, tc + hs * l(c), &ys)?))
-            };
-            let k2 = stage(
-                sys,
-                C[1],
-                combine(&body, &cur, hs, [(l(A2[0]), &k1)]),
-                &mut stats,
-            )?;
-            let k3 = stage(
-                sys,
-                C[2],
-                combine(&body, &cur, hs, [(l(A3[0]), &k1), (l(A3[1]), &k2)]),
-                &mut stats,
-            )?;
-            let k4 = stage(
-                sys,
-                C[3],
-                combine(
-                    &body,
-                    &cur,
-                    hs,
-                    [(l(A4[0]), &k1), (l(A4[1]), &k2), (l(A4[2]), &k3)],
-                ),
-                &mut stats,
-            )?;
-            let k5 = stage(
-                sys,
-                C[4],
-                combine(
-                    &body,
-                    &cur,
-                    hs,
-                    [
-                        (l(A5[0]), &k1),
-                        (l(A5[1]), &k2),
-                        (l(A5[2]), &k3),
-                        (l(A5[3]), &k4),
-                    ],
-                ),
-                &mut stats,
-            )?;
-            let k6 = stage(
-                sys,
-                C[5],
-                combine(
-                    &body,
-                    &cur,
-                    hs,
-                    [
-                        (l(A6[0]), &k1),
-                        (l(A6[1]), &k2),
-                        (l(A6[2]), &k3),
-                        (l(A6[3]), &k4),
-                        (l(A6[4]), &k5),
-                    ],
-                ),
-                &mut stats,
-            )?;
-            let next = combine(
-                &body,
-                &cur,
-                hs,
-                [
-                    (l(B5[0]), &k1),
-                    (l(B5[2]), &k3),
-                    (l(B5[3]), &k4),
-                    (l(B5[4]), &k5),
-                    (l(B5[5]), &k6),
-                ],
-            );
-            let k7 = stage(sys, C[6], next, &mut stats)?;
-            let err = combine(
-                &body,
-                &zero_state,
-                hs,
-                [
-                    (l(E[0]), &k1),
-                    (l(E[2]), &k3),
-                    (l(E[3]), &k4),
-                    (l(E[4]), &k5),
-                    (l(E[5]), &k6),
-                    (l(E[6]), &k7),
-                ],
-            );
+            let (next, k7, err) = trial(sys, &body, &cur, &k1, &zero_state, (tc, hs), &mut stats)?;
             let en = self.error_norm(&body, &cur, &next, &err);
             if !Float::is_finite(en) {
                 return Err(StepError::NonFinite {
@@ -340,6 +251,111 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
     fn resampler(&self) -> Option<Self> {
         Some(self.clone())
     }
+}
+
+/// A trial substep's solution, last stage and error estimate.
+type Trial<B, const N: usize> = (State<B, N>, Deriv<B, N>, State<B, N>);
+
+/// One Dormand–Prince trial substep of size `hs` from `(tc, cur)` whose
+/// first stage is `k1`: the fifth-order solution, its last stage (the next
+/// substep's first: first same as last) and the embedded error estimate
+/// (`zero_state` carries the shape of a state with every entry zero).
+fn trial<B: Backend, const N: usize, Sys: System<B, N> + ?Sized>(
+    sys: &mut Sys,
+    body: &Body<B>,
+    cur: &State<B, N>,
+    k1: &Deriv<B, N>,
+    zero_state: &State<B, N>,
+    (tc, hs): (S<B>, S<B>),
+    stats: &mut StepStats,
+) -> Result<Trial<B, N>, StepError> {
+    let l = S::<B>::lit;
+    let stage = |sys: &mut Sys,
+                 c: f64,
+                 ys: State<B, N>,
+                 stats: &mut StepStats|
+     -> Result<Deriv<B, N>, StepError> {
+        stats.evaluations += 1;
+        Ok(body.deriv(&ys, &eval(sys, tc + hs * l(c), &ys)?))
+    };
+    let k2 = stage(sys, C[1], combine(body, cur, hs, [(l(A2[0]), k1)]), stats)?;
+    let k3 = stage(
+        sys,
+        C[2],
+        combine(body, cur, hs, [(l(A3[0]), k1), (l(A3[1]), &k2)]),
+        stats,
+    )?;
+    let k4 = stage(
+        sys,
+        C[3],
+        combine(
+            body,
+            cur,
+            hs,
+            [(l(A4[0]), k1), (l(A4[1]), &k2), (l(A4[2]), &k3)],
+        ),
+        stats,
+    )?;
+    let k5 = stage(
+        sys,
+        C[4],
+        combine(
+            body,
+            cur,
+            hs,
+            [
+                (l(A5[0]), k1),
+                (l(A5[1]), &k2),
+                (l(A5[2]), &k3),
+                (l(A5[3]), &k4),
+            ],
+        ),
+        stats,
+    )?;
+    let k6 = stage(
+        sys,
+        C[5],
+        combine(
+            body,
+            cur,
+            hs,
+            [
+                (l(A6[0]), k1),
+                (l(A6[1]), &k2),
+                (l(A6[2]), &k3),
+                (l(A6[3]), &k4),
+                (l(A6[4]), &k5),
+            ],
+        ),
+        stats,
+    )?;
+    let next = combine(
+        body,
+        cur,
+        hs,
+        [
+            (l(B5[0]), k1),
+            (l(B5[2]), &k3),
+            (l(B5[3]), &k4),
+            (l(B5[4]), &k5),
+            (l(B5[5]), &k6),
+        ],
+    );
+    let k7 = stage(sys, C[6], next, stats)?;
+    let err = combine(
+        body,
+        zero_state,
+        hs,
+        [
+            (l(E[0]), k1),
+            (l(E[2]), &k3),
+            (l(E[3]), &k4),
+            (l(E[4]), &k5),
+            (l(E[5]), &k6),
+            (l(E[6]), &k7),
+        ],
+    );
+    Ok((next, k7, err))
 }
 
 use lie::num_traits::One;
