@@ -526,32 +526,7 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
     reference: &PositionReference<B>,
     model: AccelerationModel<B>,
 ) -> Result<PositionOutput<B, R>, ControlError> {
-    for (v, field) in [
-        (state.x, "state.x"),
-        (state.v, "state.v"),
-        (state.omega, "state.omega"),
-        (e_i_pos, "e_i (position integral)"),
-        (e_i_att, "e_I (attitude integral)"),
-        (reference.x, "reference.x"),
-        (reference.v, "reference.v"),
-        (reference.a, "reference.a"),
-        (reference.jerk, "reference.jerk"),
-        (reference.snap, "reference.snap"),
-        (reference.b1d, "reference.b1d"),
-        (reference.b1d_dot, "reference.b1d_dot"),
-        (reference.b1d_ddot, "reference.b1d_ddot"),
-    ] {
-        if !is_finite::<B>(v) {
-            return Err(ControlError::NonFinite { field });
-        }
-    }
-    if let AccelerationModel::Measured { accel, jerk } = model
-        && !(is_finite::<B>(accel) && is_finite::<B>(jerk))
-    {
-        return Err(ControlError::NonFinite {
-            field: "measured acceleration/jerk",
-        });
-    }
+    check_inputs(state, e_i_pos, e_i_att, reference, &model)?;
     let s = S::<B>::lit;
     let (m, g) = (params.mass, params.gravity);
     let g_ = &pos_gains;
@@ -674,6 +649,45 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
         e_i_att_rate: att.e_i_rate,
         degeneracy,
     })
+}
+
+/// The reference law's inputs, all checked up front: the first that is not
+/// finite, named.
+#[cfg(test)]
+fn check_inputs<B: Backend, R: Rotation<B>>(
+    state: &VehicleState<B, R>,
+    e_i_pos: V3<B>,
+    e_i_att: V3<B>,
+    reference: &PositionReference<B>,
+    model: &AccelerationModel<B>,
+) -> Result<(), ControlError> {
+    for (v, field) in [
+        (state.x, "state.x"),
+        (state.v, "state.v"),
+        (state.omega, "state.omega"),
+        (e_i_pos, "e_i (position integral)"),
+        (e_i_att, "e_I (attitude integral)"),
+        (reference.x, "reference.x"),
+        (reference.v, "reference.v"),
+        (reference.a, "reference.a"),
+        (reference.jerk, "reference.jerk"),
+        (reference.snap, "reference.snap"),
+        (reference.b1d, "reference.b1d"),
+        (reference.b1d_dot, "reference.b1d_dot"),
+        (reference.b1d_ddot, "reference.b1d_ddot"),
+    ] {
+        if !is_finite::<B>(v) {
+            return Err(ControlError::NonFinite { field });
+        }
+    }
+    if let AccelerationModel::Measured { accel, jerk } = *model
+        && !(is_finite::<B>(accel) && is_finite::<B>(jerk))
+    {
+        return Err(ControlError::NonFinite {
+            field: "measured acceleration/jerk",
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]
