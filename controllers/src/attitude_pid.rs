@@ -105,7 +105,7 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
         });
     }
     if !is_finite::<B>(reference.omega_d) || !is_finite::<B>(reference.omega_d_dot) {
-        return Err(ControlError::NonFinite {
+        return Err(ControlError::NonFiniteReference {
             field: "reference.omega_d / omega_d_dot",
         });
     }
@@ -226,9 +226,14 @@ mod tests {
                         "reference.omega_d / omega_d_dot",
                         "reference.omega_d / omega_d_dot",
                     ][field];
+                    let want = if field >= 2 {
+                        ControlError::NonFiniteReference { field: expected }
+                    } else {
+                        ControlError::NonFinite { field: expected }
+                    };
                     assert_eq!(
                         attitude_control(&p, &g, r0, w, ei, &rf).err(),
-                        Some(ControlError::NonFinite { field: expected }),
+                        Some(want),
                         "{bad} in {expected}[{comp}]"
                     );
                 }

@@ -122,6 +122,12 @@ pub enum ControlError {
         /// The field, e.g. `"state.omega"`.
         field: &'static str,
     },
+    /// A field of the reference (the desired trajectory or attitude) was
+    /// NaN or ±∞: the reference's fault, not the state's.
+    NonFiniteReference {
+        /// The field, e.g. `"reference.jerk"`.
+        field: &'static str,
+    },
     /// A [`Scheduler`] was given an empty plan.
     EmptyPlan,
 }
@@ -130,6 +136,9 @@ impl core::fmt::Display for ControlError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             ControlError::NonFinite { field } => {
+                write!(f, "controller input `{field}` is not finite")
+            }
+            ControlError::NonFiniteReference { field } => {
                 write!(f, "controller input `{field}` is not finite")
             }
             ControlError::EmptyPlan => write!(f, "the flight-mode plan has no segments"),

@@ -299,8 +299,8 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
     // not finite.
     let finite = out.thrust.is_finite() && is_finite::<B>(out.moment);
     if degenerate || !finite {
-        if let Some(field) = non_finite_input(state, e_i_att, reference) {
-            return Err(ControlError::NonFinite { field });
+        if let Some(e) = non_finite_input(state, e_i_att, reference) {
+            return Err(e);
         }
         if !finite {
             return Err(ControlError::NonFinite { field: "state.r" });
@@ -318,12 +318,22 @@ fn non_finite_input<B: Backend, R: Rotation<B>>(
     state: &VehicleState<B, R>,
     e_i_att: V3<B>,
     reference: &PositionReference<B>,
-) -> Option<&'static str> {
-    [
+) -> Option<ControlError> {
+    let own = [
         (state.x, "state.x"),
         (state.v, "state.v"),
         (state.omega, "state.omega"),
         (e_i_att, "e_I (attitude integral)"),
+    ];
+    if let Some((_, field)) = own.into_iter().find(|(v, _)| !is_finite::<B>(*v)) {
+        return Some(ControlError::NonFinite { field });
+    }
+    reference_field(reference).map(|field| ControlError::NonFiniteReference { field })
+}
+
+/// The first field of `reference` that is not finite.
+fn reference_field<B: Backend>(reference: &PositionReference<B>) -> Option<&'static str> {
+    [
         (reference.x, "reference.x"),
         (reference.v, "reference.v"),
         (reference.a, "reference.a"),
@@ -667,18 +677,13 @@ fn check_inputs<B: Backend, R: Rotation<B>>(
         (state.omega, "state.omega"),
         (e_i_pos, "e_i (position integral)"),
         (e_i_att, "e_I (attitude integral)"),
-        (reference.x, "reference.x"),
-        (reference.v, "reference.v"),
-        (reference.a, "reference.a"),
-        (reference.jerk, "reference.jerk"),
-        (reference.snap, "reference.snap"),
-        (reference.b1d, "reference.b1d"),
-        (reference.b1d_dot, "reference.b1d_dot"),
-        (reference.b1d_ddot, "reference.b1d_ddot"),
     ] {
         if !is_finite::<B>(v) {
             return Err(ControlError::NonFinite { field });
         }
+    }
+    if let Some(field) = reference_field(reference) {
+        return Err(ControlError::NonFiniteReference { field });
     }
     if let AccelerationModel::Measured { accel, jerk } = *model
         && !(is_finite::<B>(accel) && is_finite::<B>(jerk))
@@ -899,11 +904,12 @@ mod tests {
                             &r,
                             AccelerationModel::Nominal,
                         );
-                        assert_eq!(
-                            got.err(),
-                            Some(ControlError::NonFinite { field: expected }),
-                            "{name}: {bad} in {expected}[{comp}]"
-                        );
+                        let want = if field >= 5 {
+                            ControlError::NonFiniteReference { field: expected }
+                        } else {
+                            ControlError::NonFinite { field: expected }
+                        };
+                        assert_eq!(got.err(), Some(want), "{name}: {bad} in {expected}[{comp}]");
                         checked += 1;
                     }
                 }

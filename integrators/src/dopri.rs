@@ -251,6 +251,9 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
     fn resampler(&self) -> Option<Self> {
         Some(self.clone())
     }
+    fn limit_substeps(&mut self, cap: u32) {
+        self.max_substeps = cap;
+    }
 }
 
 /// A trial substep's solution, last stage and error estimate.

@@ -258,6 +258,14 @@ pub trait Integrator<B: Backend, const N: usize> {
     {
         None
     }
+    /// Caps the internal substeps of one call at `cap` (a call that needs
+    /// more fails with [`StepError::TooManySubsteps`]): how a simulation's
+    /// divergence guard stops an adaptive method grinding through ever
+    /// smaller substeps of a blow-up. A no-op for methods that take one
+    /// step per call (the default).
+    fn limit_substeps(&mut self, cap: u32) {
+        let _ = cap;
+    }
 }
 
 /// Takes `n` steps of size `h` from `t0` (see the crate example); the time of step `k` is

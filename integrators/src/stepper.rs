@@ -171,6 +171,11 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Stepper<B, N> {
             _ => {}
         }
     }
+    fn limit_substeps(&mut self, cap: u32) {
+        if let Stepper::Dopri(s) = self {
+            Integrator::<B, N>::limit_substeps(s, cap);
+        }
+    }
     fn resampler(&self) -> Option<Self> {
         match self {
             Stepper::Dopri(s) => Some(Stepper::Dopri(s.clone())),

@@ -21,7 +21,9 @@ use crate::scene::{
     AccelModel, AttitudeRef, BackendKind, PositionRef, Scalar, Scene, ThrustSpec, Timing,
     VehicleKind,
 };
-use crate::sim::{Control, RunOptions, RunOutput, Segment, SimError, Simulation, Until};
+use crate::sim::{
+    Control, RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until,
+};
 use crate::{SceneError, builtin};
 
 /// A scene's attitude reference as an [`AttitudeSource`](controllers::AttitudeSource): a constant one is
@@ -254,14 +256,15 @@ impl Registry {
                 .get(&(name.clone(), TypeId::of::<B>()))
                 .and_then(|b| b.downcast_ref::<Build<B>>())
                 .ok_or_else(|| {
-                    SimError::Scene(
-                        scene
-                            .check_kind(&self.kinds())
-                            .err()
-                            .map_or_else(|| format!("vehicle kind `{name}`"), |(_, m)| m),
-                    )
+                    SimError::Scene(scene.check_kind(&self.kinds()).err().map_or_else(
+                        || SceneError::at_key("vehicle.kind", format!("vehicle kind `{name}`")),
+                        |(k, m)| SceneError::at_key(k, m),
+                    ))
                 })?;
-            return build(scene).map_err(|e| SimError::Scene(format!("vehicle `{name}`: {e}")));
+            return build(scene).map_err(|message| SimError::CustomVehicle {
+                kind: name.clone(),
+                message,
+            });
         }
         build_vehicle::<B>(scene)
     }
@@ -276,6 +279,25 @@ impl Registry {
         }
     }
 
+    /// The simulation of `scene` on backend `B` with `N` extra states,
+    /// ready to change (a guard, a stop condition, another integrator) and
+    /// build: what [`Registry::run`] runs, for a caller that steps it
+    /// ([`Simulation::advance_to`]). `N` must hold the plan's integral
+    /// slots and the vehicle's states (6 for the paper's modes on a
+    /// vehicle without states), else [`SimError::Layout`].
+    pub fn builder<B: Backend, const N: usize>(
+        &self,
+        scene: &Scene,
+    ) -> Result<SimulationBuilder<'static, B, N>, SimError> {
+        scene
+            .validate()
+            .and_then(|()| scene.check_kind(&self.kinds()))
+            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+        let vehicle = self.build_vehicle::<B>(scene)?;
+        let plan = plan::<B>(scene, vehicle.as_ref());
+        builder_from::<B, N>(scene, vehicle, plan)
+    }
+
     /// Runs `scene` on backend `B`.
     pub fn run_generic<B: Backend>(
         &self,
@@ -285,7 +307,7 @@ impl Registry {
         scene
             .validate()
             .and_then(|()| scene.check_kind(&self.kinds()))
-            .map_err(|(_, msg)| SimError::Scene(msg))?;
+            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
         let integrals = plan
@@ -299,11 +321,11 @@ impl Registry {
         match integrals + vehicle.state_count() {
             0..=6 => simulate::<B, 6>(scene, vehicle, plan, opts),
             7..=16 => simulate::<B, 16>(scene, vehicle, plan, opts),
-            n => Err(SimError::Scene(format!(
-                "the plan and vehicle `{}` need {n} extra states; scenes hold at most 16 \
-                 (build a `Simulation` with a larger N)",
-                scene.vehicle.kind.name()
-            ))),
+            _ => Err(SimError::Layout {
+                integrals,
+                vehicle_states: vehicle.state_count(),
+                capacity: 16,
+            }),
         }
     }
 }
@@ -314,11 +336,22 @@ fn simulate<B: Backend, const N: usize>(
     plan: Vec<Segment<'static, B>>,
     opts: RunOptions<'_>,
 ) -> Result<RunOutput, SimError> {
+    builder_from::<B, N>(scene, vehicle, plan)?
+        .build()?
+        .run(opts)
+}
+
+/// The [`SimulationBuilder`] of `scene` with `vehicle` flying `plan`.
+fn builder_from<B: Backend, const N: usize>(
+    scene: &Scene,
+    vehicle: Box<dyn Vehicle<B>>,
+    plan: Vec<Segment<'static, B>>,
+) -> Result<SimulationBuilder<'static, B, N>, SimError> {
     let kind: integrators::IntegratorKind = scene
         .integrator
         .kind
         .parse()
-        .map_err(|e: integrators::UnknownIntegrator| SimError::Scene(e.to_string()))?;
+        .map_err(SimError::Integrator)?;
     let stepper = Stepper::<B, N>::new(
         kind,
         StepperConfig {
@@ -357,9 +390,7 @@ fn simulate<B: Backend, const N: usize>(
     for seg in plan {
         b = b.segment(seg);
     }
-    let mut out = b.build()?.run(opts)?;
-    out.warnings.extend(warning);
-    Ok(out)
+    Ok(b.warnings(warning))
 }
 
 /// The controller's view of the vehicle and the scene's gains.
@@ -442,7 +473,7 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
     let l = S::<B>::lit;
     let ve = &scene.vehicle;
     let j = ops::diag::<B>(l(ve.inertia[0]), l(ve.inertia[1]), l(ve.inertia[2]));
-    let err = |e: dynamics::DynamicsError| SimError::Scene(e.to_string());
+    let err = SimError::Vehicle;
     let mut quad =
         Quadrotor::<B>::new(l(ve.mass), j, l(ve.gravity), l(ve.arm), l(ve.c_tau_f)).map_err(err)?;
     if let Some(d) = &scene.disturbance {
@@ -470,8 +501,11 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
             Box::new(hex)
         }
         VehicleKind::Custom(name) => {
-            return Err(SimError::Scene(format!(
-                "vehicle kind `{name}` is not built in; register it with scenarios::Registry"
+            return Err(SimError::Scene(SceneError::at_key(
+                "vehicle.kind",
+                format!(
+                    "vehicle kind `{name}` is not built in; register it with scenarios::Registry"
+                ),
             )));
         }
     })

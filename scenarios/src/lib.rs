@@ -60,8 +60,9 @@ mod sim;
 pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, RunOptions, RunOutput, Sample, Segment, SimError, Simulation,
-    SimulationBuilder, SwitchRecord, Until,
+    Condition, Control, Divergence, DivergenceGuard, RunOptions, RunOutput, Sample, Segment,
+    SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord, Termination,
+    Until,
 };
 
 use lie::Backend;
@@ -70,6 +71,14 @@ use lie::Backend;
 /// program's own kinds go through [`Registry::run`]).
 pub fn run(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
     Registry::new().run(scene, opts)
+}
+
+/// The simulation of `scene` on backend `B` with `N` extra states, to
+/// build and step (built-in vehicle kinds; see [`Registry::builder`]).
+pub fn builder<B: Backend, const N: usize>(
+    scene: &Scene,
+) -> Result<SimulationBuilder<'static, B, N>, SimError> {
+    Registry::new().builder::<B, N>(scene)
 }
 
 /// Runs `scene` on backend `B` (built-in vehicle kinds).

@@ -1026,7 +1026,7 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<u64, OutputError> {
         }
         w.sample(s)?;
     }
-    let stopped = out.interrupted_at.map(|t| Stopped {
+    let stopped = out.interrupted_at().map(|t| Stopped {
         t,
         reason: "interrupted".into(),
     });

@@ -467,6 +467,17 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+impl SceneError {
+    /// A validation error about `key`, without a place in a file.
+    pub fn at_key(key: &str, message: String) -> Self {
+        Self {
+            message,
+            location: None,
+            key: Some(key.to_string()),
+        }
+    }
+}
+
 impl Scene {
     /// Parses a TOML scene; `origin` names the file in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, SceneError> {

@@ -232,7 +232,7 @@ fn a_stop_condition_ends_the_run_at_the_located_instant() {
         .unwrap()
         .run(Default::default())
         .unwrap();
-    let tc = out.stopped_at.expect("stopped");
+    let tc = out.stopped_at().expect("stopped");
     let last = out.samples.last().unwrap();
     println!("stopped at t = {tc:.12} s, height {:.12} m", -last.x[2]);
     assert_eq!(last.t, tc);

@@ -390,7 +390,7 @@ fn cancel_stops_at_the_current_step() {
         },
     )
     .unwrap();
-    let t = out.interrupted_at.expect("interrupted");
+    let t = out.interrupted_at().expect("interrupted");
     // Progress is reported after each step and the flag is read right
     // after it: the run stops at the step where it was set.
     let set_at = set_at.unwrap();

@@ -32,7 +32,10 @@ use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rayon::prelude::*;
 use scenarios::scene::{AttitudeRef, DisturbanceSpec, Mode, PositionRef, SegmentSpec, ThrustSpec};
-use scenarios::{RunOptions, Sample, Scene, Simulation, SwitchRecord, builtin, output};
+use scenarios::{
+    Divergence, DivergenceGuard, RunOptions, Sample, Scene, Simulation, SwitchRecord, Termination,
+    builtin, output,
+};
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -579,32 +582,33 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
         last: None,
     };
     let entered = std::cell::Cell::new(None);
-    let diverged = std::cell::Cell::new(false);
     let stop = Box::new(
         |t: f64, st: &RigidBodyState<B>, out: &ModeOutput<B>| -> bool {
-            let w = B::vec3_to_array(st.omega);
-            let x = B::vec3_to_array(st.x);
-            let ex = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-            if (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt() > DIVERGED_OMEGA || ex > DIVERGED_X
-            {
-                diverged.set(true);
-                return true;
-            }
             let mut m = out.psi.to_f64_lossless() / psi_tol;
             if position {
-                m = m.max(ex / x_tol);
+                let x = B::vec3_to_array(st.x);
+                m = m.max((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() / x_tol);
             }
             let done = hold.check(t, m);
             entered.set(hold.entered);
             done
         },
     );
+    // A capped dopri: a call that needs more than MAX_SUBSTEPS substeps is
+    // a solution blowing up between two checks of the state limits.
+    let guard = DivergenceGuard {
+        omega: Some(DIVERGED_OMEGA),
+        position_error: Some(DIVERGED_X),
+        moment: None,
+        substeps: (kind == integrators::IntegratorKind::Dopri).then_some(MAX_SUBSTEPS),
+    };
     let mut b = Simulation::<B, 6>::builder(vehicle)
         .initial(body)
         .dt(setup.dt)
         .duration(setup.deadline)
         .record_every(sc.record.sample)
-        .stop_when(stop);
+        .stop_when(stop)
+        .guard(guard);
     for seg in plan {
         b = b.segment(seg);
     }
@@ -617,55 +621,48 @@ pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
         extrema: false,
         ..Default::default()
     };
-    let result = if kind == integrators::IntegratorKind::Dopri {
-        // A capped dopri: a call that needs more than MAX_SUBSTEPS
-        // substeps is a solution blowing up between two checks of the
-        // divergence guard (classified as diverged below).
-        let dopri = integrators::Dopri::<B>::new(setup.tol).max_substeps(MAX_SUBSTEPS);
-        b.integrator(dopri)
-            .build()
-            .map_err(|e| e.to_string())?
-            .run(opts)
-    } else {
-        b.integrator(stepper)
-            .build()
-            .map_err(|e| e.to_string())?
-            .run(opts)
-    };
+    let result = b
+        .integrator(stepper)
+        .build()
+        .map_err(|e| e.to_string())?
+        .run(opts);
     let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    // A run cut off inside an integrator call (the substep cap) or by a
+    // step that produced a non-finite state has no final figures worth
+    // keeping: the row says NaN and 0 steps.
+    let cut = |status| Outcome {
+        index,
+        angle: init.angle(),
+        axis: init.axis(),
+        omega0: norm(init.omega),
+        ex0: norm(init.x),
+        converged: false,
+        t_converge: f64::NAN,
+        final_psi: f64::NAN,
+        final_ex: f64::NAN,
+        max_thrust: peaks.thrust,
+        max_rotor: peaks.rotor,
+        steps: 0,
+        status,
+    };
     let out = match result {
         Ok(out) => out,
-        // A step that produced a non-finite state: the sample is recorded
-        // as an error (its replay command shows it), the run goes on; a
-        // capped dopri call that ran out of substeps is a divergence.
-        Err(scenarios::SimError::Step(msg)) => {
-            let status = if msg.contains("substeps in one call") {
-                Status::Diverged
-            } else {
-                Status::Error
-            };
-            return Ok(Outcome {
-                index,
-                angle: init.angle(),
-                axis: init.axis(),
-                omega0: norm(init.omega),
-                ex0: norm(init.x),
-                converged: false,
-                t_converge: f64::NAN,
-                final_psi: f64::NAN,
-                final_ex: f64::NAN,
-                max_thrust: peaks.thrust,
-                max_rotor: peaks.rotor,
-                steps: 0,
-                status,
-            });
-        }
+        // Any failed step (a non-finite state, an LGVI without a solution
+        // at this step) is the sample's own result; the study goes on.
+        Err(scenarios::SimError::Step { .. }) => return Ok(cut(Status::Error)),
         Err(e) => return Err(format!("sample {index}: {e}")),
     };
-    let status = match (out.stopped_at, diverged.get()) {
-        (Some(_), true) => Status::Diverged,
-        (Some(_), false) => Status::Converged,
-        (None, _) => Status::Deadline,
+    let status = match out.termination {
+        Termination::Diverged {
+            what: Divergence::Substeps(_),
+            ..
+        } => return Ok(cut(Status::Diverged)),
+        Termination::Diverged { .. } => Status::Diverged,
+        Termination::StoppedBy { .. } => Status::Converged,
+        Termination::Completed => Status::Deadline,
+        Termination::Interrupted { t } => {
+            return Err(format!("sample {index}: interrupted at t = {t}"));
+        }
     };
     let converged = status == Status::Converged;
     Ok(Outcome {
@@ -1189,7 +1186,7 @@ pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
                     ..Default::default()
                 })
                 .map_err(|e| e.to_string())?;
-            let t = out.stopped_at.ok_or_else(|| {
+            let t = out.stopped_at().ok_or_else(|| {
                 format!("near-pi {axis_name} δ = {delta:e}: Ψ never dropped below 1e-3 in 60 s")
             })?;
             let _ = writeln!(csv, "{axis_name},{delta:e},{t}");

@@ -486,7 +486,7 @@ fn outcome(
             } else {
                 ("cancelled", EXIT_SIGINT)
             };
-            let stopped = out.interrupted_at.map(|t| output::Stopped {
+            let stopped = out.interrupted_at().map(|t| output::Stopped {
                 t,
                 reason: reason.into(),
             });
@@ -627,7 +627,13 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
             Some(t) if streaming => format!(" (the outputs hold the run up to t = {t} s)"),
             _ => String::new(),
         };
-        format!("{}: {e}{held}", scene.name)
+        // The library names the cause; what to change is the CLI's to say.
+        let hint = if e.is_divergence() {
+            " — try a smaller --dt (or --tol for dopri)"
+        } else {
+            ""
+        };
+        format!("{}: {e}{hint}{held}", scene.name)
     })?;
     if let Some(s) = &stopped {
         eprintln!(

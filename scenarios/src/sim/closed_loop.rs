@@ -2,7 +2,7 @@
 //! integrator sees. Also the scheduler's part of the loop (which segment is
 //! active, switching into the next).
 
-use controllers::{ModeOutput, VehicleState};
+use controllers::{ControlError, ModeOutput, VehicleState};
 use dynamics::{Vehicle, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
@@ -31,7 +31,23 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub compensate: bool,
     pub inertia_inv: lie::M3<B>,
     pub evaluations: u64,
-    pub error: Option<String>,
+    /// The first input a mode rejected since it was last taken.
+    pub error: Option<ControlError>,
+}
+
+/// What a [`ClosedLoop`] holds besides its borrows: kept between two calls
+/// of `advance_to`, when the loop is rebuilt around the same vehicle and
+/// plan.
+#[derive(Copy, Clone)]
+pub(crate) struct Parked<B: Backend, const N: usize> {
+    pub active: usize,
+    m: usize,
+    nv: usize,
+    held: Option<Command<B, N>>,
+    sampled: bool,
+    compensate: bool,
+    inertia_inv: lie::M3<B>,
+    pub evaluations: u64,
 }
 
 impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
@@ -44,8 +60,11 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         m: usize,
         nv: usize,
     ) -> Result<Self, super::SimError> {
-        let inertia_inv = lie::ops::inverse::<B>(vehicle.inertia())
-            .ok_or_else(|| super::SimError::Scene("inertia is singular".into()))?;
+        let inertia_inv =
+            lie::ops::inverse::<B>(vehicle.inertia()).ok_or_else(|| super::SimError::Setting {
+                field: "vehicle",
+                message: "its inertia is singular".into(),
+            })?;
         Ok(Self {
             vehicle,
             plan,
@@ -59,6 +78,41 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             evaluations: 0,
             error: None,
         })
+    }
+
+    /// The loop's own state, to rebuild it with [`ClosedLoop::resume`].
+    pub fn park(&self) -> Parked<B, N> {
+        Parked {
+            active: self.active,
+            m: self.m,
+            nv: self.nv,
+            held: self.held,
+            sampled: self.sampled,
+            compensate: self.compensate,
+            inertia_inv: self.inertia_inv,
+            evaluations: self.evaluations,
+        }
+    }
+
+    /// The loop around `vehicle` and `plan` as it was parked.
+    pub fn resume(
+        vehicle: &'s dyn Vehicle<B>,
+        plan: &'s mut [Segment<'a, B>],
+        p: &Parked<B, N>,
+    ) -> Self {
+        Self {
+            vehicle,
+            plan,
+            active: p.active,
+            m: p.m,
+            nv: p.nv,
+            held: p.held,
+            sampled: p.sampled,
+            compensate: p.compensate,
+            inertia_inv: p.inertia_inv,
+            evaluations: p.evaluations,
+            error: None,
+        }
     }
 
     /// The active mode's command at `(t, y)`; `None` without a plan or when
@@ -100,7 +154,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             Err(e) => {
                 // A non-finite state: report it after the step (the
                 // integrator sees NaN loads and stops).
-                self.error.get_or_insert_with(|| e.to_string());
+                self.error.get_or_insert(e);
                 None
             }
         }
@@ -133,22 +187,50 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         }
     }
 
-    /// Whether the run's stop condition holds at `(t, y)` (false without
-    /// one, or without a command to show it).
+    /// Whether the run ends at `(t, y)`: a limit of `guard` passed (noted
+    /// in `diverged`, checked first) or the stop condition holds (false
+    /// without a command to show them).
     pub fn stop_holds(
         &mut self,
         stop: &mut Option<super::Condition<'_, B>>,
+        guard: &super::DivergenceGuard,
+        diverged: &mut Option<super::Divergence>,
         t: f64,
         y: &State<B, N>,
     ) -> bool {
-        let Some(f) = stop.as_mut() else {
-            return false;
-        };
         let out = match self.command(S::<B>::lit(t), y) {
             Some(c) => c.out,
             None => return false,
         };
-        f(t, &y.body, &out)
+        if guard.checks_state() {
+            let norm = |v: lie::V3<B>| {
+                let a = B::vec3_to_array(v).map(|c| c.to_f64_lossless());
+                (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+            };
+            let mut ex = 0.0;
+            if guard.position_error.is_some() {
+                let x = B::vec3_to_array(y.body.x).map(|c| c.to_f64_lossless());
+                let d = self.plan[self.active]
+                    .mode
+                    .desired_position(t)
+                    .unwrap_or([0.0; 3]);
+                let e = [x[0] - d[0], x[1] - d[1], x[2] - d[2]];
+                ex = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+            }
+            let moment = if guard.moment.is_some() {
+                norm(out.moment)
+            } else {
+                0.0
+            };
+            if let Some(d) = guard.check(norm(y.body.omega), ex, moment) {
+                diverged.get_or_insert(d);
+                return true;
+            }
+        }
+        match stop.as_mut() {
+            Some(f) => f(t, &y.body, &out),
+            None => false,
+        }
     }
 
     /// Makes the next segment active at `t`; its mode decides what of the

@@ -136,7 +136,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
         if hc > 0.0 {
             let stats = stepper
                 .step(sys, l(t), l(hc), y)
-                .map_err(|e| SimError::Step(e.to_string()))?;
+                .map_err(|e| SimError::step(t, hc, e, sys.error.take()))?;
             steps += u64::from(stats.substeps.max(1));
         }
         let g = y.extra[c.slot].to_f64_lossless() - c.target;
@@ -179,7 +179,7 @@ pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
         stepper.reset();
         stepper
             .step(sys, l(t), l(mid), &mut ym)
-            .map_err(|e| SimError::Step(e.to_string()))?;
+            .map_err(|e| SimError::step(t, mid, e, sys.error.take()))?;
         if holds(sys, t + mid, &ym) {
             hi = mid;
             y_hi = ym;

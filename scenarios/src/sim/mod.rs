@@ -33,6 +33,7 @@ use lie::num_traits::Float;
 use lie::{Backend, Real, S};
 
 use crate::output::{OutputError, Sink};
+use crate::scene::SceneError;
 
 /// One recorded sample, in f64 whatever the simulation scalar.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,22 +126,156 @@ pub struct RunOutput {
     /// Smallest and largest Ψ over the same states (in [0, 2] for a
     /// rotation).
     pub psi_range: (f64, f64),
-    /// When the run's stop condition ([`SimulationBuilder::stop_when`])
-    /// ended it, the located time; `None` when it ran to the end.
-    pub stopped_at: Option<f64>,
-    /// When [`RunOptions::cancel`] ended the run, the time of the last
-    /// step (and of the last sample).
-    pub interrupted_at: Option<f64>,
+    /// How the run ended ([`Simulation::output`] of a run that can go on
+    /// says [`Termination::Interrupted`] at its time).
+    pub termination: Termination,
     /// The final state.
     pub last: Sample,
 }
 
-/// Why a run stopped.
+impl RunOutput {
+    /// The located time when the stop condition ended the run.
+    pub fn stopped_at(&self) -> Option<f64> {
+        match self.termination {
+            Termination::StoppedBy { t } => Some(t),
+            _ => None,
+        }
+    }
+    /// Where the run was interrupted ([`Termination::Interrupted`]).
+    pub fn interrupted_at(&self) -> Option<f64> {
+        match self.termination {
+            Termination::Interrupted { t } => Some(t),
+            _ => None,
+        }
+    }
+    /// What the divergence guard caught, and when.
+    pub fn diverged(&self) -> Option<(Divergence, f64)> {
+        match self.termination {
+            Termination::Diverged { what, t } => Some((what, t)),
+            _ => None,
+        }
+    }
+}
+
+/// How a run ended.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Termination {
+    /// It ran to its duration.
+    Completed,
+    /// The stop condition ([`SimulationBuilder::stop_when`]) held first at
+    /// `t` (located by bisection).
+    StoppedBy {
+        /// The located time, s.
+        t: f64,
+    },
+    /// It was ended before its duration: by [`RunOptions::cancel`], or by
+    /// [`Simulation::finish`] on a run not advanced to its end. `t` is
+    /// where it stopped (the time of its last sample).
+    Interrupted {
+        /// The time of the last step, s.
+        t: f64,
+    },
+    /// The [`DivergenceGuard`] tripped at `t`.
+    Diverged {
+        /// Which limit, with the value that passed it.
+        what: Divergence,
+        /// When: the located first instant for a state limit; for the
+        /// substep cap, the start of the call that ran out of substeps
+        /// (the state and the last sample are there).
+        t: f64,
+    },
+}
+
+/// Which limit of a [`DivergenceGuard`] a run passed.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Divergence {
+    /// |Ω| passed [`DivergenceGuard::omega`]; the value, rad/s.
+    Omega(f64),
+    /// ‖x − x_d‖ passed [`DivergenceGuard::position_error`]; the value, m.
+    PositionError(f64),
+    /// ‖M‖ of the command passed [`DivergenceGuard::moment`]; the value,
+    /// N m.
+    Moment(f64),
+    /// One integrator call needed more substeps than
+    /// [`DivergenceGuard::substeps`] (adaptive steppers only).
+    Substeps(u32),
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Divergence::Omega(w) => write!(f, "|Ω| = {w:.4e} rad/s"),
+            Divergence::PositionError(e) => write!(f, "‖x − x_d‖ = {e:.4e} m"),
+            Divergence::Moment(m) => write!(f, "‖M‖ = {m:.4e} N m"),
+            Divergence::Substeps(n) => {
+                write!(f, "one integrator call needed more than {n} substeps")
+            }
+        }
+    }
+}
+
+/// Limits past which a run counts as diverged and ends with
+/// [`Termination::Diverged`] instead of integrating a blow-up to its
+/// duration (or to a non-finite state). Each is off when `None` (the
+/// default: no limit). The state limits are checked after every step and
+/// the first instant one is passed is located by bisection, as a stop
+/// condition is; the substep cap is handed to the integrator
+/// ([`Integrator::limit_substeps`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct DivergenceGuard {
+    /// Largest |Ω|, rad/s.
+    pub omega: Option<f64>,
+    /// Largest ‖x − x_d‖ (‖x‖ when the mode has no desired position), m.
+    pub position_error: Option<f64>,
+    /// Largest ‖M‖ of the command, N m.
+    pub moment: Option<f64>,
+    /// Most substeps in one integrator call.
+    pub substeps: Option<u32>,
+}
+
+impl DivergenceGuard {
+    /// Whether any state limit is set (the substep cap aside).
+    pub fn checks_state(&self) -> bool {
+        self.omega.is_some() || self.position_error.is_some() || self.moment.is_some()
+    }
+
+    /// The first limit passed by `|Ω| = omega`, `‖x − x_d‖ = ex` and
+    /// `‖M‖ = moment` (in that order), if any.
+    pub fn check(&self, omega: f64, ex: f64, moment: f64) -> Option<Divergence> {
+        let over = |limit: Option<f64>, v: f64| limit.is_some_and(|l| v > l);
+        if over(self.omega, omega) {
+            Some(Divergence::Omega(omega))
+        } else if over(self.position_error, ex) {
+            Some(Divergence::PositionError(ex))
+        } else if over(self.moment, moment) {
+            Some(Divergence::Moment(moment))
+        } else {
+            None
+        }
+    }
+}
+
+/// Why a run could not be built or could not go on. Each variant keeps its
+/// typed cause ([`std::error::Error::source`]); the messages name the time
+/// and the field.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum SimError {
-    /// The scene is invalid.
-    Scene(String),
-    /// A setting of the [`SimulationBuilder`] is invalid.
+    /// The scene is invalid, or names a vehicle kind nothing registered.
+    Scene(SceneError),
+    /// The scene names an integrator that does not exist.
+    Integrator(integrators::UnknownIntegrator),
+    /// The vehicle rejected its parameters, or its allocation failed.
+    Vehicle(dynamics::DynamicsError),
+    /// A vehicle registered by the program failed to build.
+    CustomVehicle {
+        /// Its kind, as the scene names it.
+        kind: String,
+        /// What its builder said.
+        message: String,
+    },
+    /// A setting of the [`SimulationBuilder`] (or an argument of
+    /// [`Simulation::advance_to`]) is invalid.
     Setting {
         /// The setting, e.g. `"dt"`.
         field: &'static str,
@@ -157,18 +292,77 @@ pub enum SimError {
         /// The simulation's `N`.
         capacity: usize,
     },
-    /// The integrator failed.
-    Step(String),
+    /// A step failed. When a mode rejected its input inside the step (a
+    /// non-finite state or reference reaching the law), `control` says
+    /// which input: that is the cause, and the integrator's error the
+    /// symptom.
+    Step {
+        /// Start of the step, s.
+        t: f64,
+        /// Its size, s.
+        h: f64,
+        /// The integrator's error.
+        source: integrators::StepError,
+        /// The mode's complaint, if one came first.
+        control: Option<controllers::ControlError>,
+    },
+    /// A mode rejected its input outside a step (a sample, a held command).
+    Control {
+        /// When, s.
+        t: f64,
+        /// The mode's error.
+        source: controllers::ControlError,
+    },
     /// A sink could not write (disk full, …).
     Output(OutputError),
-    /// The controller rejected its input.
-    Control(String),
+}
+
+impl SimError {
+    /// A step error with the mode's complaint, if any.
+    pub(crate) fn step(
+        t: f64,
+        h: f64,
+        source: integrators::StepError,
+        control: Option<controllers::ControlError>,
+    ) -> Self {
+        SimError::Step {
+            t,
+            h,
+            source,
+            control,
+        }
+    }
+
+    /// Whether the state itself went non-finite in a step (not the
+    /// reference, not a file): what a smaller step, a tighter tolerance
+    /// or a [`DivergenceGuard`] addresses.
+    pub fn is_divergence(&self) -> bool {
+        matches!(
+            self,
+            SimError::Step {
+                control: Some(controllers::ControlError::NonFinite { .. }),
+                ..
+            } | SimError::Step {
+                control: None,
+                source: integrators::StepError::NonFinite { .. }
+                    | integrators::StepError::TooManySubsteps { .. }
+                    | integrators::StepError::StepTooSmall { .. },
+                ..
+            }
+        )
+    }
 }
 
 impl std::fmt::Display for SimError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use controllers::ControlError as C;
         match self {
-            SimError::Scene(s) => write!(f, "scene: {s}"),
+            SimError::Scene(e) => write!(f, "scene: {e}"),
+            SimError::Integrator(e) => write!(f, "scene: {e}"),
+            SimError::Vehicle(e) => write!(f, "vehicle: {e}"),
+            SimError::CustomVehicle { kind, message } => {
+                write!(f, "scene: vehicle `{kind}`: {message}")
+            }
             SimError::Setting { field, message } => write!(f, "simulation `{field}`: {message}"),
             SimError::Layout {
                 integrals,
@@ -182,14 +376,73 @@ impl std::fmt::Display for SimError {
                 integrals + vehicle_states,
                 integrals + vehicle_states
             ),
-            SimError::Step(s) => write!(f, "integrator: {s}"),
+            SimError::Step {
+                t,
+                h,
+                control: Some(c @ C::NonFiniteReference { .. }),
+                ..
+            } => write!(
+                f,
+                "integrator: in the step from t = {t} (h = {h}): {c}: the reference returned NaN or ∞ there"
+            ),
+            SimError::Step {
+                t,
+                h,
+                control: Some(c),
+                ..
+            } => write!(
+                f,
+                "integrator: in the step from t = {t} (h = {h}): {c}; the state diverged"
+            ),
+            SimError::Step { source, .. } => write!(f, "integrator: {source}"),
+            SimError::Control { t, source } => write!(f, "controller: at t = {t}: {source}"),
             SimError::Output(e) => write!(f, "output: {e}"),
-            SimError::Control(s) => write!(f, "controller: {s}"),
         }
     }
 }
 
-impl std::error::Error for SimError {}
+impl std::error::Error for SimError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SimError::Scene(e) => Some(e),
+            SimError::Integrator(e) => Some(e),
+            SimError::Vehicle(e) => Some(e),
+            SimError::Step {
+                control: Some(c), ..
+            } => Some(c),
+            SimError::Step { source, .. } => Some(source),
+            SimError::Control { source, .. } => Some(source),
+            SimError::Output(e) => Some(e),
+            SimError::CustomVehicle { .. } | SimError::Setting { .. } | SimError::Layout { .. } => {
+                None
+            }
+        }
+    }
+}
+
+impl From<SceneError> for SimError {
+    fn from(e: SceneError) -> Self {
+        SimError::Scene(e)
+    }
+}
+
+impl From<dynamics::DynamicsError> for SimError {
+    fn from(e: dynamics::DynamicsError) -> Self {
+        SimError::Vehicle(e)
+    }
+}
+
+impl From<integrators::UnknownIntegrator> for SimError {
+    fn from(e: integrators::UnknownIntegrator) -> Self {
+        SimError::Integrator(e)
+    }
+}
+
+impl From<OutputError> for SimError {
+    fn from(e: OutputError) -> Self {
+        SimError::Output(e)
+    }
+}
 
 /// Options of one run.
 pub struct RunOptions<'a> {
@@ -322,16 +575,20 @@ pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     vehicle: Box<dyn Vehicle<B> + 'a>,
     plan: Vec<Segment<'a, B>>,
     stepper: I,
-    initial: State<B, N>,
+    /// The state now: the initial state until the run starts.
+    y: State<B, N>,
     integrals: usize,
     vehicle_states: usize,
-    dt: f64,
     duration: f64,
-    control: Control,
-    record: f64,
-    locate_events: bool,
-    compensate: bool,
     stop: Option<Condition<'a, B>>,
+    guard: DivergenceGuard,
+    /// The loop's state between calls.
+    running: Box<stepping::Running<B, N>>,
+    /// The state was changed through [`Simulation::state_mut`] since the
+    /// last step: the stepper forgets its cached loads before the next.
+    perturbed: bool,
+    /// A call failed: the run cannot go on.
+    failed: bool,
 }
 
 impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
@@ -352,14 +609,194 @@ impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
             locate_events: true,
             compensate: false,
             stop: None,
+            guard: DivergenceGuard::default(),
+            warnings: Vec::new(),
         }
     }
 }
 
+/// The state of a [`Simulation`] at [`SimState::t`], in the simulation's
+/// scalar: what [`Simulation::state`] shows.
+#[derive(Clone, Debug)]
+pub struct SimState<'s, B: Backend> {
+    /// Time, s.
+    pub t: f64,
+    /// The rigid body.
+    pub body: &'s RigidBodyState<B>,
+    /// The plan's integral register (the paper's modes: `[e_I, e_i]`).
+    pub integrals: &'s [S<B>],
+    /// The vehicle's internal states (rotor speeds, say).
+    pub vehicle_states: &'s [S<B>],
+    /// The active segment of the plan.
+    pub segment: usize,
+    /// Its mode's name (`"none"` without a plan).
+    pub mode: &'static str,
+}
+
+/// The state of a [`Simulation`] to change between two calls of
+/// [`Simulation::advance_to`] ([`Simulation::state_mut`]).
+#[derive(Debug)]
+pub struct SimStateMut<'s, B: Backend> {
+    /// Time, s (read only: a run's time moves only by stepping).
+    pub t: f64,
+    /// The rigid body.
+    pub body: &'s mut RigidBodyState<B>,
+    /// The plan's integral register.
+    pub integrals: &'s mut [S<B>],
+    /// The vehicle's internal states.
+    pub vehicle_states: &'s mut [S<B>],
+}
+
 impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
-    /// Runs to the end.
-    pub fn run(self, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
-        stepping::run(self, opts)
+    /// Runs to the end: [`Simulation::advance_to`] the duration, then
+    /// [`Simulation::finish`].
+    pub fn run(mut self, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
+        let end = self.duration;
+        self.advance_to_with(end, opts)?;
+        self.finish()
+    }
+
+    /// Advances the run to `t` (at most its duration), recording samples
+    /// as [`RunOptions::default`] does; see [`Simulation::advance_to_with`].
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        self.advance_to_with(t, RunOptions::default())
+    }
+
+    /// Advances the run to `t`: takes every step that ends at or before
+    /// `t` (to rounding), with what happens at them (events, switches,
+    /// samples, the stop condition, the guard), and stops before the
+    /// first step that would end after `t`. Pausing never moves the step
+    /// grid, so a run advanced in any number of pieces is the same, bit
+    /// for bit, as one advanced in one call; the price is that
+    /// [`Simulation::time`] is the last step's end, which is `t` itself
+    /// when `t` falls on the grid (`k·dt` from the last checkpoint:
+    /// the start, a switch, a control instant, a located event) and up to
+    /// one step before it otherwise.
+    ///
+    /// The first call starts the run and fixes [`RunOptions::record`] and
+    /// [`RunOptions::extrema`] for it; every call's sink receives the
+    /// samples and switches that call produces. After the run has ended
+    /// (its duration, the stop condition, the guard, a cancel) a call does
+    /// nothing; after an error it returns [`SimError::Setting`].
+    ///
+    /// ```
+    /// use controllers::{AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams};
+    /// use dynamics::{Quadrotor, Vehicle};
+    /// use lie::{Backend, NalgebraF64, Rotation, So3Mat};
+    /// use scenarios::{Simulation, Until};
+    /// type B = NalgebraF64;
+    ///
+    /// let params = RigidBodyParams::<B>::paper();
+    /// let mode = AttitudeMode::<B, _, HoldPosition<B>>::new(
+    ///     params,
+    ///     AttitudeGains::uniform(0.65, 0.11, 0.0, 0.8),
+    ///     HoldAttitude::new(So3Mat::<B>::identity()),
+    ///     AttitudeThrust::Constant(params.mass * params.gravity),
+    /// );
+    /// let mut sim = Simulation::<B>::builder(Box::new(Quadrotor::<B>::paper()))
+    ///     .mode(mode, Until::Never)
+    ///     .duration(6.0)
+    ///     .build()?;
+    /// // Hover level for a second, then a kick about b1 of 3 rad/s.
+    /// sim.advance_to(1.0)?;
+    /// assert!(sim.state().body.omega.norm() < 1e-12);
+    /// sim.state_mut().body.omega = B::vec3(3.0, 0.0, 0.0);
+    /// sim.advance_to(1.5)?;
+    /// let psi_mid = sim.output().last.psi;
+    /// assert!(psi_mid > 1e-3, "the kick tilted it: Ψ = {psi_mid}");
+    /// // The attitude loop brings it back level.
+    /// let out = sim.finish_run()?;
+    /// assert!(out.last.psi < 1e-9, "Ψ(6 s) = {}", out.last.psi);
+    /// # Ok::<(), scenarios::SimError>(())
+    /// ```
+    pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
+        if t.is_nan() {
+            return Err(SimError::Setting {
+                field: "advance_to",
+                message: "the time is NaN".into(),
+            });
+        }
+        if self.failed {
+            return Err(SimError::Setting {
+                field: "advance_to",
+                message: "an earlier call failed; the run cannot go on".into(),
+            });
+        }
+        let r = stepping::advance(self, t.min(self.duration), opts);
+        self.failed = r.is_err();
+        r
+    }
+
+    /// Advances to the end of the run and returns its output.
+    pub fn finish_run(mut self) -> Result<RunOutput, SimError> {
+        let end = self.duration;
+        self.advance_to(end)?;
+        self.finish()
+    }
+
+    /// Ends the run where it is and returns its output. A run not yet at
+    /// its end gets a last sample at [`Simulation::time`] (kept in
+    /// [`RunOutput::last`] and, when recording, in the samples; no sink is
+    /// told) and [`Termination::Interrupted`]; the error is that sample's
+    /// (a mode rejecting the state there).
+    pub fn finish(self) -> Result<RunOutput, SimError> {
+        stepping::finish(self)
+    }
+
+    /// The run's output so far (samples, switches, events, extrema; the
+    /// last sample taken is [`RunOutput::last`]); empty before the first
+    /// [`Simulation::advance_to`].
+    pub fn output(&self) -> &RunOutput {
+        &self.running.out
+    }
+
+    /// The simulated time now, s.
+    pub fn time(&self) -> f64 {
+        self.running.t
+    }
+
+    /// The run's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// How the run ended; `None` while it can go on.
+    pub fn termination(&self) -> Option<Termination> {
+        self.running.done
+    }
+
+    /// The state now.
+    pub fn state(&self) -> SimState<'_, B> {
+        let (m, nv) = (self.integrals, self.vehicle_states);
+        let segment = self.running.active();
+        SimState {
+            t: self.time(),
+            body: &self.y.body,
+            integrals: &self.y.extra[..m],
+            vehicle_states: &self.y.extra[m..m + nv],
+            segment,
+            mode: self.plan.get(segment).map_or("none", |s| s.mode.name()),
+        }
+    }
+
+    /// The state now, to change before the next
+    /// [`Simulation::advance_to`]: the run resumes from the changed state
+    /// on the same step grid (the stepper forgets its cached loads, a law
+    /// held at a breakpoint branch picks its branch from the state again;
+    /// under sampled control the held command stays until the next control
+    /// instant, as on a flight computer). Change it only to finite values:
+    /// the first step checks them.
+    pub fn state_mut(&mut self) -> SimStateMut<'_, B> {
+        self.perturbed = true;
+        let (m, nv) = (self.integrals, self.vehicle_states);
+        let t = self.time();
+        let (integrals, rest) = self.y.extra.split_at_mut(m);
+        SimStateMut {
+            t,
+            body: &mut self.y.body,
+            integrals,
+            vehicle_states: &mut rest[..nv],
+        }
     }
 
     /// `(m, n)`: integral slots used by the plan and the vehicle's internal
@@ -385,9 +822,17 @@ pub struct SimulationBuilder<'a, B: Backend, const N: usize = 6, I = Stepper<B, 
     locate_events: bool,
     compensate: bool,
     stop: Option<Condition<'a, B>>,
+    guard: DivergenceGuard,
+    warnings: Vec<String>,
 }
 
 impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, B, N, I> {
+    /// Adds warnings to [`RunOutput::warnings`] (what the caller adjusted
+    /// while building, say).
+    pub fn warnings(mut self, w: impl IntoIterator<Item = String>) -> Self {
+        self.warnings.extend(w);
+        self
+    }
     /// Appends a segment to the plan (none: the vehicle flies with zero
     /// command).
     pub fn segment(mut self, segment: Segment<'a, B>) -> Self {
@@ -426,6 +871,8 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
             locate_events: self.locate_events,
             compensate: self.compensate,
             stop: self.stop,
+            guard: self.guard,
+            warnings: self.warnings,
         }
     }
     /// The step (for Dormand–Prince: the longest call; it subdivides).
@@ -461,6 +908,12 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     /// predicate's own state.
     pub fn stop_when(mut self, condition: Condition<'a, B>) -> Self {
         self.stop = Some(condition);
+        self
+    }
+    /// End the run with [`Termination::Diverged`] when it passes one of
+    /// `guard`'s limits (none by default).
+    pub fn guard(mut self, guard: DivergenceGuard) -> Self {
+        self.guard = guard;
         self
     }
     /// Subtract the vehicle's configuration moment (gravity about a pivot)
@@ -571,20 +1024,55 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         if lie::ops::inverse::<B>(self.vehicle.inertia()).is_none() {
             return Err(bad("vehicle", "its inertia is singular".into()));
         }
+        if let Some(c) = self.guard.substeps
+            && c == 0
+        {
+            return Err(bad("guard", "a substep cap of 0 allows no step".into()));
+        }
+        for (name, v) in [
+            ("omega", self.guard.omega),
+            ("position_error", self.guard.position_error),
+            ("moment", self.guard.moment),
+        ] {
+            if let Some(v) = v
+                && (v.is_nan() || v <= 0.0)
+            {
+                return Err(bad("guard", format!("`{name}` limit {v} must be > 0")));
+            }
+        }
+        let mut stepper = self.stepper;
+        if let Some(c) = self.guard.substeps {
+            stepper.limit_substeps(c);
+        }
+        let mut plan = self.plan;
+        let mut running = stepping::prepare(
+            self.vehicle.as_ref(),
+            &mut plan,
+            &stepping::Settings {
+                control: self.control,
+                compensate: self.compensate,
+                m: integrals,
+                nv: vehicle_states,
+                dt: self.dt,
+                t_end: self.duration,
+                record: self.record,
+                locate_events: self.locate_events,
+            },
+        )?;
+        running.out.warnings.extend(self.warnings);
         Ok(Simulation {
             vehicle: self.vehicle,
-            plan: self.plan,
-            stepper: self.stepper,
-            initial,
+            plan,
+            stepper,
+            y: initial,
             integrals,
             vehicle_states,
-            dt: self.dt,
             duration: self.duration,
-            control: self.control,
-            record: self.record,
-            locate_events: self.locate_events,
-            compensate: self.compensate,
             stop: self.stop,
+            guard: self.guard,
+            running: Box::new(running),
+            perturbed: false,
+            failed: false,
         })
     }
 }

@@ -88,7 +88,7 @@ fn rotor_thrusts<B: Backend, const N: usize>(
         );
         vehicle
             .actuators_from_wrench(&w, &mut buf[..n])
-            .map_err(|e| SimError::Scene(e.to_string()))?;
+            .map_err(SimError::Vehicle)?;
     }
     Ok(n)
 }
@@ -106,7 +106,7 @@ fn command_at<B: Backend, const N: usize>(
         sys.command(S::<B>::lit(t), y)
     };
     match sys.error.take() {
-        Some(e) => Err(SimError::Control(format!("at t = {t}: {e}"))),
+        Some(source) => Err(SimError::Control { t, source }),
         None => Ok(cmd),
     }
 }

@@ -7,26 +7,35 @@
 //! trajectory, the run's extrema (over every step end and located event)
 //! and its evaluation count are the same whatever is recorded.
 
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
-use dynamics::Wrench;
+use dynamics::{Vehicle, Wrench};
 use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
 
-use super::closed_loop::ClosedLoop;
+use super::closed_loop::{ClosedLoop, Parked};
 use super::events::{Crossing, crossing, locate_condition, split_at_crossing};
 use super::record::{empty_sample, sample, track, track_figures};
-use super::{Control, RunOptions, RunOutput, Sample, SimError, Simulation, SwitchRecord, Until};
+use super::{
+    Control, Divergence, DivergenceGuard, RunOptions, RunOutput, Sample, Segment, SimError,
+    Simulation, SwitchRecord, Termination, Until,
+};
 use crate::output::Sink;
 
 /// Where samples go: kept in the output, handed to the sink, or both; and
 /// when: every `rec` seconds, taken from the steps' continuous extension
 /// ([`integrators::dense`]) so that recording never moves the step grid.
 struct Emit<'o, 's> {
-    keep: bool,
+    r: Record,
     sink: Option<&'o mut (dyn Sink + 's)>,
+}
+
+/// Where the sample stream is: kept between calls of `advance_to`.
+#[derive(Copy, Clone)]
+struct Record {
+    keep: bool,
     /// Time of the last sample emitted (a checkpoint that coincides with
     /// a located stop is not sampled twice).
     last_t: f64,
@@ -37,23 +46,13 @@ struct Emit<'o, 's> {
 }
 
 impl<'o, 's> Emit<'o, 's> {
-    fn new(keep: bool, sink: Option<&'o mut (dyn Sink + 's)>, rec: f64) -> Self {
-        Self {
-            keep,
-            sink,
-            last_t: f64::NAN,
-            rec,
-            k: 0,
-        }
-    }
-
     fn sample(&mut self, out: &mut RunOutput, s: Sample) -> Result<(), SimError> {
-        if s.t != self.last_t {
-            self.last_t = s.t;
+        if s.t != self.r.last_t {
+            self.r.last_t = s.t;
             if let Some(k) = self.sink.as_deref_mut() {
                 k.sample(&s).map_err(SimError::Output)?;
             }
-            if self.keep {
+            if self.r.keep {
                 out.samples.push(s.clone());
             }
         }
@@ -71,12 +70,12 @@ impl<'o, 's> Emit<'o, 's> {
     }
 
     fn next(&self) -> f64 {
-        (self.k + 1) as f64 * self.rec
+        (self.r.k + 1) as f64 * self.r.rec
     }
 
     /// Whether the next record instant is `t` (to rounding of `k·rec`).
     fn due_at(&self, t: f64) -> bool {
-        self.rec > 0.0 && (self.next() - t).abs() <= 1e-9 * self.rec
+        self.r.rec > 0.0 && (self.next() - t).abs() <= 1e-9 * self.r.rec
     }
 
     /// Samples the state itself when the next record instant is `t`.
@@ -91,7 +90,7 @@ impl<'o, 's> Emit<'o, 's> {
             // Labelled with the instant `k·rec` itself, from which `t`
             // differs by the rounding of the step grid at most.
             let tk = self.next();
-            self.k += 1;
+            self.r.k += 1;
             let s = sample(sys, tk, y)?;
             self.sample(out, s)?;
         }
@@ -124,18 +123,15 @@ impl<'o, 's> Emit<'o, 's> {
     /// [`Integrator::resampler`]). The loads evaluated for it are not
     /// counted in the run's evaluations, which stay the same with and
     /// without recording; the stepper itself is not touched.
-    #[allow(clippy::too_many_arguments)]
     fn inside<B: Backend, const N: usize, I: Integrator<B, N>>(
         &mut self,
         out: &mut RunOutput,
         sys: &mut ClosedLoop<'_, '_, B, N>,
         stepper: &I,
-        t0: f64,
-        y0: &State<B, N>,
-        t1: f64,
-        y1: &State<B, N>,
+        (t0, y0): (f64, &State<B, N>),
+        (t1, y1): (f64, &State<B, N>),
     ) -> Result<(), SimError> {
-        if self.rec <= 0.0 || self.next() >= t1 - 1e-9 * self.rec {
+        if self.r.rec <= 0.0 || self.next() >= t1 - 1e-9 * self.r.rec {
             return Ok(());
         }
         let l = S::<B>::lit;
@@ -147,8 +143,8 @@ impl<'o, 's> Emit<'o, 's> {
             None => {
                 let (l0, l1) = (sys.load(l(t0), y0), sys.load(l(t1), y1));
                 sys.evaluations = counted;
-                if let Some(e) = sys.error.take() {
-                    return Err(SimError::Control(format!("at t = {t0}: {e}")));
+                if let Some(source) = sys.error.take() {
+                    return Err(SimError::Control { t: t0, source });
                 }
                 Extension::Hermite(
                     dense::Rates::of(sys, y0, &l0),
@@ -157,16 +153,16 @@ impl<'o, 's> Emit<'o, 's> {
             }
         };
         let h = t1 - t0;
-        while self.next() < t1 - 1e-9 * self.rec {
+        while self.next() < t1 - 1e-9 * self.r.rec {
             let tk = self.next();
-            self.k += 1;
+            self.r.k += 1;
             let y = match &mut ext {
                 Extension::Redo(c) => {
                     let mut y = *y0;
                     c.reset();
                     let stepped = c.step(sys, l(t0), l(tk - t0), &mut y);
                     sys.evaluations = counted;
-                    stepped.map_err(|e| SimError::Step(format!("sampling at t = {tk}: {e}")))?;
+                    stepped.map_err(|e| SimError::step(t0, tk - t0, e, sys.error.take()))?;
                     y
                 }
                 Extension::Hermite(r0, r1) => {
@@ -203,159 +199,381 @@ fn release<B: Backend, const N: usize>(
     }
 }
 
-/// Updates the run's extrema with the state at `t` (its command, Ψ,
-/// rotor thrusts, distance from SO(3)).
-fn track_state<B: Backend, const N: usize>(
-    out: &mut RunOutput,
-    sys: &mut ClosedLoop<'_, '_, B, N>,
-    t: f64,
-    y: &State<B, N>,
-) -> Result<(), SimError> {
-    track_figures(out, sys, t, y)
+/// The loop's state between two calls of `advance_to`: where the run is on
+/// its checkpoints and step grid, the sample stream, the output so far,
+/// and the closed loop's own state.
+pub(crate) struct Running<B: Backend, const N: usize> {
+    /// The time of the state, s.
+    pub t: f64,
+    /// How the run ended, once it has.
+    pub done: Option<Termination>,
+    pub out: RunOutput,
+    started: bool,
+    dt: f64,
+    t_end: f64,
+    /// The checkpoint the steps are heading for.
+    t_next: f64,
+    /// The steps run `seg_start + k·dt` from the last checkpoint.
+    seg_start: f64,
+    j: u64,
+    grid: Grid,
+    bps: Vec<Breakpoint<B>>,
+    /// The active law is held on a breakpoint branch for the next step.
+    forced: bool,
+    locate_events: bool,
+    extrema: bool,
+    rec: Record,
+    parked: Parked<B, N>,
+    progress_next: f64,
+    /// The guard limit a stop-condition probe found passed (kept over the
+    /// bisection's probes, as the located instant is where one held).
+    diverged: Option<Divergence>,
 }
 
-pub(crate) fn run<B: Backend, const N: usize, I: Integrator<B, N>>(
-    sim: Simulation<'_, B, N, I>,
-    opts: RunOptions<'_>,
-) -> Result<RunOutput, SimError> {
-    let (mut progress, cancel, extrema) = (opts.progress, opts.cancel, opts.extrema);
-    let l = S::<B>::lit;
-    let Simulation {
-        vehicle,
-        mut plan,
-        mut stepper,
-        initial,
-        integrals: m,
-        vehicle_states: nv,
-        dt,
-        duration: t_end,
-        control,
-        record,
-        locate_events,
-        compensate,
-        mut stop,
-    } = sim;
-    let mode_names = plan.iter().map(|s| s.mode.name()).collect();
-    let sampled = matches!(control, Control::Sampled { .. }) && !plan.is_empty();
-    let ctrl = match control {
+impl<B: Backend, const N: usize> Running<B, N> {
+    /// The active segment.
+    pub fn active(&self) -> usize {
+        self.parked.active
+    }
+}
+
+/// The loop's state before the first step of `sim`'s run (its output
+/// names the modes and carries the plan's warnings).
+pub(crate) fn prepare<B: Backend, const N: usize>(
+    vehicle: &dyn Vehicle<B>,
+    plan: &mut [Segment<'_, B>],
+    s: &Settings,
+) -> Result<Running<B, N>, SimError> {
+    let sampled = matches!(s.control, Control::Sampled { .. }) && !plan.is_empty();
+    let ctrl = match s.control {
         Control::Sampled { rate } if sampled => 1.0 / rate,
         _ => 0.0,
     };
-    let mut grid = Grid::new(&plan, ctrl, t_end);
-    let rec = if opts.record || opts.sink.is_some() {
-        record
-    } else {
-        0.0
-    };
-    let mut emit = Emit::new(opts.record, opts.sink, rec);
-    let mut sys = ClosedLoop {
+    let sys = ClosedLoop {
         sampled,
-        compensate,
-        ..ClosedLoop::new(vehicle.as_ref(), &mut plan, m, nv)?
+        compensate: s.compensate,
+        ..ClosedLoop::new(vehicle, plan, s.m, s.nv)?
     };
-    let mut y = initial;
-    let mut bps = breakpoints(&sys, locate_events);
+    let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
+    out.warnings = plan_warnings(sys.plan, ctrl, s.dt, s.t_end);
+    let grid = Grid::new(sys.plan, ctrl, s.t_end);
+    Ok(Running {
+        t: 0.0,
+        done: None,
+        out,
+        started: false,
+        dt: s.dt,
+        t_end: s.t_end,
+        t_next: grid.next(s.t_end),
+        seg_start: 0.0,
+        j: 0,
+        grid,
+        bps: breakpoints(&sys, s.locate_events),
+        forced: false,
+        locate_events: s.locate_events,
+        extrema: true,
+        rec: Record {
+            keep: true,
+            last_t: f64::NAN,
+            rec: s.record,
+            k: 0,
+        },
+        parked: sys.park(),
+        progress_next: 0.0,
+        diverged: None,
+    })
+}
 
-    let mut out = empty_output(mode_names);
-    out.warnings = plan_warnings(sys.plan, ctrl, dt, t_end);
-    let start = Instant::now();
-    let mut t = 0.0f64;
-    begin(&mut sys, &mut emit, &mut out, &mut y)?;
-    let mut progress_next = 0.0;
-    let mut forced_for_next_step = false;
-    while t < t_end {
-        let t_next = grid.next(t_end);
-        // Steps of dt from t, the last one shortened to land on t_next.
-        let mut seg_start = t;
-        let mut j = 0u64;
-        while t < t_next {
-            let mut ts = seg_start + (j + 1) as f64 * dt;
-            if ts > t_next - 1e-12 * dt.max(t_next) {
-                ts = t_next;
-            }
-            let h = ts - t;
-            let before = y;
-            let stats = stepper
-                .step(&mut sys, l(t), l(h), &mut y)
-                .map_err(|e| step_error(&mut sys, &e, t, h))?;
-            out.steps += u64::from(stats.substeps.max(1));
-            if !bps.is_empty()
-                && let Some(c) = crossing(&mut sys, &bps, t, h, &before, &y)
-            {
-                // Split the step at the crossing: redo [t, tc], restart
-                // the dt grid from tc.
-                let mut cx = Cx::new(&mut sys, &mut emit, &mut out, locate_events);
-                t = cx.at_crossing(&mut stepper, &c, (t, h, &before), &mut y)?;
-                forced_for_next_step = true;
-                seg_start = t;
-                j = 0;
-                continue;
-            }
-            // A condition switch (Ψ below a threshold, a user predicate):
-            // when it holds at the end of this step, bisect on redone steps
-            // for the first instant and switch there.
-            if sys.has_condition() && sys.condition_holds(ts, &y) {
-                let step = (t, ts, h, &before);
-                let mut cx = Cx::new(&mut sys, &mut emit, &mut out, locate_events);
-                let tc = cx.at_condition(
-                    &mut stepper,
-                    step,
-                    &mut y,
-                    &mut bps,
-                    &mut forced_for_next_step,
-                )?;
-                t = tc;
-                seg_start = t;
-                j = 0;
-                continue;
-            }
-            // The run's stop condition: located like a switch, and the run
-            // ends there with a final sample.
-            if stop.is_some() && sys.stop_holds(&mut stop, ts, &y) {
-                let step = (t, ts, h, &before, &y);
-                let holds = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt, yy: &_| {
-                    s.stop_holds(&mut stop, tt, yy)
-                };
-                let (tc, y_c) = locate_condition(&mut sys, &mut stepper, holds, step)?;
-                emit.inside(&mut out, &mut sys, &stepper, t, &before, tc, &y_c)?;
-                y = y_c;
-                out.stopped_at = Some(tc);
-                return finish_early(out, &mut sys, &mut emit, tc, &y, start);
-            }
-            // Samples inside the step, on the branches it was integrated
-            // on; then the law decides its branches from the state again.
-            emit.inside(&mut out, &mut sys, &stepper, t, &before, ts, &y)?;
-            release(&mut sys, bps.len(), &mut forced_for_next_step);
-            t = ts;
-            j += 1;
-            if t < t_next {
-                // A checkpoint's own figures and sample come after what
-                // happens there (a switch, a new held command).
-                if extrema {
-                    track_state(&mut out, &mut sys, t, &y)?;
-                }
-                emit.exact(&mut out, &mut sys, t, &y)?;
-            }
-            report_progress(progress.as_deref_mut(), t / t_end, &mut progress_next);
-            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                out.interrupted_at = Some(t);
-                return finish_early(out, &mut sys, &mut emit, t, &y, start);
-            }
-        }
-        t = t_next;
-        let (switch_due, control_due) = grid.arrive(t);
-        let mut cx = Cx::new(&mut sys, &mut emit, &mut out, locate_events);
-        if let Some(b) = cx.at_checkpoint(&mut stepper, t, &mut y, switch_due, control_due)? {
-            bps = b;
-        }
-        if extrema || t >= t_end {
-            track_state(&mut out, &mut sys, t, &y)?;
-        }
-        emit.at_checkpoint(&mut out, &mut sys, t, &y, t >= t_end)?;
+/// The settings [`prepare`] reads.
+pub(crate) struct Settings {
+    pub control: Control,
+    pub compensate: bool,
+    pub m: usize,
+    pub nv: usize,
+    pub dt: f64,
+    pub t_end: f64,
+    pub record: f64,
+    pub locate_events: bool,
+}
+
+/// [`Simulation::advance_to_with`]: the loop rebuilt around the
+/// simulation's vehicle and plan, stepped to `until`, and parked again.
+pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
+    sim: &mut Simulation<'_, B, N, I>,
+    until: f64,
+    opts: RunOptions<'_>,
+) -> Result<(), SimError> {
+    let wall = Instant::now();
+    let Simulation {
+        vehicle,
+        plan,
+        stepper,
+        y,
+        stop,
+        guard,
+        running: r,
+        perturbed,
+        ..
+    } = sim;
+    if r.done.is_some() {
+        return Ok(());
     }
-    out.evaluations = sys.evaluations;
-    out.wall = start.elapsed().as_secs_f64();
-    Ok(out)
+    let mut sys = ClosedLoop::resume(vehicle.as_ref(), plan, &r.parked);
+    if !r.started {
+        r.extrema = opts.extrema;
+        r.rec.keep = opts.record;
+        if !(opts.record || opts.sink.is_some()) {
+            r.rec.rec = 0.0;
+        }
+    }
+    let mut emit = Emit {
+        r: r.rec,
+        sink: opts.sink,
+    };
+    let mut result = Ok(());
+    if !r.started {
+        r.started = true;
+        result = begin(&mut sys, &mut emit, &mut r.out, y);
+    }
+    if std::mem::take(perturbed) {
+        stepper.reset();
+        release(&mut sys, r.bps.len(), &mut r.forced);
+    }
+    if result.is_ok() {
+        let mut lp = Loop {
+            sys: &mut sys,
+            emit: &mut emit,
+            stepper,
+            stop,
+            guard: *guard,
+            r,
+            y,
+        };
+        result = lp.until(until, opts.progress, opts.cancel);
+    }
+    r.parked = sys.park();
+    r.rec = emit.r;
+    r.out.termination = r.done.unwrap_or(Termination::Interrupted { t: r.t });
+    r.out.evaluations = r.parked.evaluations;
+    r.out.wall += wall.elapsed().as_secs_f64();
+    result
+}
+
+/// [`Simulation::finish`]: the output, with a last sample where a run not
+/// at its end stopped.
+pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
+    sim: Simulation<'_, B, N, I>,
+) -> Result<RunOutput, SimError> {
+    let Simulation {
+        vehicle,
+        mut plan,
+        y,
+        mut running,
+        ..
+    } = sim;
+    let r = &mut *running;
+    if r.done.is_none() {
+        let mut sys = ClosedLoop::resume(vehicle.as_ref(), &mut plan, &r.parked);
+        let mut emit = Emit {
+            r: r.rec,
+            sink: None,
+        };
+        if !r.started {
+            r.started = true;
+            begin(&mut sys, &mut emit, &mut r.out, &mut { y })?;
+        }
+        r.done = Some(Termination::Interrupted { t: r.t });
+        // A record instant the run paused on was sampled already (labelled
+        // k·rec, which may differ from the step's end in the last bit).
+        let sampled = (emit.r.last_t - r.t).abs() <= 1e-9 * r.dt;
+        if !sampled {
+            finish_early(&mut r.out, &mut sys, &mut emit, r.t, &y)?;
+        }
+        r.out.evaluations = sys.evaluations;
+    }
+    running.out.termination = running.done.unwrap_or(Termination::Completed);
+    Ok(running.out)
+}
+
+/// What one call of `advance_to` works on.
+struct Loop<'c, 's, 'a, 'o, 'k, 'p, B: Backend, const N: usize, I> {
+    sys: &'c mut ClosedLoop<'s, 'a, B, N>,
+    emit: &'c mut Emit<'o, 'k>,
+    stepper: &'c mut I,
+    stop: &'c mut Option<super::Condition<'p, B>>,
+    guard: DivergenceGuard,
+    r: &'c mut Running<B, N>,
+    y: &'c mut State<B, N>,
+}
+
+impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '_, B, N, I> {
+    /// Steps from checkpoint to checkpoint until the next step would end
+    /// after `until`, the run ends, or `cancel` is set.
+    fn until(
+        &mut self,
+        until: f64,
+        mut progress: Option<&mut dyn FnMut(f64)>,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<(), SimError> {
+        let l = S::<B>::lit;
+        let (dt, t_end) = (self.r.dt, self.r.t_end);
+        while self.r.t < t_end {
+            // Steps of dt from the last checkpoint, the last one shortened
+            // to land on the next.
+            while self.r.t < self.r.t_next {
+                let r = &mut *self.r;
+                let mut ts = r.seg_start + (r.j + 1) as f64 * dt;
+                if ts > r.t_next - 1e-12 * dt.max(r.t_next) {
+                    ts = r.t_next;
+                }
+                if ts > until + 1e-9 * dt {
+                    return Ok(());
+                }
+                let (t, h) = (r.t, ts - r.t);
+                let before = *self.y;
+                let stats = match self.stepper.step(self.sys, l(t), l(h), self.y) {
+                    Ok(s) => s,
+                    Err(e) => return self.failed_step(e, t, h),
+                };
+                self.r.out.steps += u64::from(stats.substeps.max(1));
+                if self.after_step((t, ts, h), &before)? {
+                    return Ok(());
+                }
+                report_progress(
+                    progress.as_deref_mut(),
+                    self.r.t / t_end,
+                    &mut self.r.progress_next,
+                );
+                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                    return self.end_early(Termination::Interrupted { t: self.r.t });
+                }
+            }
+            self.at_checkpoint()?;
+        }
+        self.r.done.get_or_insert(Termination::Completed);
+        Ok(())
+    }
+
+    /// What follows the step `(t, ts, h)` from `before`: a breakpoint
+    /// crossing inside it (the step split there), a condition switch, the
+    /// stop condition or the guard (the run ends: returns true), or the
+    /// samples inside it and the figures at its end.
+    fn after_step(
+        &mut self,
+        (t, ts, h): (f64, f64, f64),
+        before: &State<B, N>,
+    ) -> Result<bool, SimError> {
+        let Self {
+            sys,
+            emit,
+            stepper,
+            stop,
+            guard,
+            r,
+            y,
+        } = self;
+        if !r.bps.is_empty()
+            && let Some(c) = crossing(sys, &r.bps, t, h, before, y)
+        {
+            // Split the step at the crossing: redo [t, tc], restart the dt
+            // grid from tc.
+            let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
+            r.t = cx.at_crossing(*stepper, &c, (t, h, before), y)?;
+            r.forced = true;
+            (r.seg_start, r.j) = (r.t, 0);
+            return Ok(false);
+        }
+        // A condition switch (Ψ below a threshold, a user predicate): when
+        // it holds at the end of this step, bisect on redone steps for the
+        // first instant and switch there.
+        if sys.has_condition() && sys.condition_holds(ts, y) {
+            let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
+            let step = (t, ts, h, before);
+            r.t = cx.at_condition(*stepper, step, y, &mut r.bps, &mut r.forced)?;
+            (r.seg_start, r.j) = (r.t, 0);
+            return Ok(false);
+        }
+        // The run's stop condition and the guard: located like a switch,
+        // and the run ends there with a final sample.
+        let g = *guard;
+        if (stop.is_some() || g.checks_state()) && sys.stop_holds(stop, &g, &mut r.diverged, ts, y)
+        {
+            let diverged = &mut r.diverged;
+            let holds = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt, yy: &_| {
+                s.stop_holds(stop, &g, diverged, tt, yy)
+            };
+            let (tc, y_c) = locate_condition(sys, *stepper, holds, (t, ts, h, before, y))?;
+            emit.inside(&mut r.out, sys, *stepper, (t, before), (tc, &y_c))?;
+            **y = y_c;
+            r.t = tc;
+            let end = match r.diverged {
+                Some(what) => Termination::Diverged { what, t: tc },
+                None => Termination::StoppedBy { t: tc },
+            };
+            self.end_early(end)?;
+            return Ok(true);
+        }
+        // Samples inside the step, on the branches it was integrated on;
+        // then the law decides its branches from the state again.
+        emit.inside(&mut r.out, sys, *stepper, (t, before), (ts, y))?;
+        release(sys, r.bps.len(), &mut r.forced);
+        r.t = ts;
+        r.j += 1;
+        if r.t < r.t_next {
+            // A checkpoint's own figures and sample come after what
+            // happens there (a switch, a new held command).
+            if r.extrema {
+                track_figures(&mut r.out, sys, ts, y)?;
+            }
+            emit.exact(&mut r.out, sys, ts, y)?;
+        }
+        Ok(false)
+    }
+
+    /// At the checkpoint the steps were heading for: a time switch, a new
+    /// held command, the figures and sample there; then the next one.
+    fn at_checkpoint(&mut self) -> Result<(), SimError> {
+        let r = &mut *self.r;
+        let t = r.t_next;
+        r.t = t;
+        let (switch_due, control_due) = r.grid.arrive(t);
+        let mut cx = Cx::new(self.sys, self.emit, &mut r.out, r.locate_events);
+        if let Some(b) = cx.at_checkpoint(self.stepper, t, self.y, switch_due, control_due)? {
+            r.bps = b;
+        }
+        if r.extrema || t >= r.t_end {
+            track_figures(&mut r.out, self.sys, t, self.y)?;
+        }
+        self.emit
+            .at_checkpoint(&mut r.out, self.sys, t, self.y, t >= r.t_end)?;
+        r.t_next = r.grid.next(r.t_end);
+        (r.seg_start, r.j) = (t, 0);
+        Ok(())
+    }
+
+    /// A step failed: the guard's substep cap ends the run as diverged
+    /// (the state is where the call began; not sampled again, since the
+    /// blow-up is somewhere inside the call); anything else is an error,
+    /// with the mode's complaint when one came first.
+    fn failed_step(&mut self, e: integrators::StepError, t: f64, h: f64) -> Result<(), SimError> {
+        let control = self.sys.error.take();
+        if let (Some(cap), integrators::StepError::TooManySubsteps { .. }, None) =
+            (self.guard.substeps, &e, control)
+        {
+            let what = Divergence::Substeps(cap);
+            self.r.done = Some(Termination::Diverged { what, t });
+            let s = sample(self.sys, t, self.y)?;
+            self.r.out.last = s;
+            return Ok(());
+        }
+        Err(SimError::step(t, h, e, control))
+    }
+
+    /// Ends the run at the state now with `end` and a last sample there.
+    fn end_early(&mut self, end: Termination) -> Result<(), SimError> {
+        self.r.done = Some(end);
+        finish_early(&mut self.r.out, self.sys, self.emit, self.r.t, self.y)
+    }
 }
 
 /// The run's output before the first sample: empty, with the extrema at
@@ -373,8 +591,7 @@ fn empty_output(mode_names: Vec<&'static str>) -> RunOutput {
         max_rotor: 0.0,
         wall: 0.0,
         warnings: Vec::new(),
-        stopped_at: None,
-        interrupted_at: None,
+        termination: Termination::Interrupted { t: 0.0 },
         max_orthogonality_error: 0.0,
         psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
@@ -423,43 +640,18 @@ fn plan_warnings<B: Backend>(
     warnings
 }
 
-/// A failed step's error: a mode's complaint about its input, said as the
-/// reference's fault or as divergence, else the integrator's own.
-fn step_error<B: Backend, const N: usize>(
-    sys: &mut ClosedLoop<'_, '_, B, N>,
-    e: &integrators::StepError,
-    t: f64,
-    h: f64,
-) -> SimError {
-    SimError::Step(match sys.error.take() {
-        // A non-finite reference is the reference's fault; a non-finite
-        // state means the step diverged.
-        Some(c) if c.contains("`reference") => format!(
-            "in the step from t = {t} (h = {h}): {c}: the reference returned NaN or ∞ there"
-        ),
-        Some(c) => format!(
-            "in the step from t = {t} (h = {h}): {c}; the state diverged — try a smaller --dt"
-        ),
-        None => e.to_string(),
-    })
-}
-
 /// Ends a run before its duration (a stop condition, a cancel) with a
 /// sample of the state where it stopped.
 fn finish_early<B: Backend, const N: usize>(
-    mut out: RunOutput,
+    out: &mut RunOutput,
     sys: &mut ClosedLoop<'_, '_, B, N>,
     emit: &mut Emit<'_, '_>,
     t: f64,
     y: &State<B, N>,
-    start: Instant,
-) -> Result<RunOutput, SimError> {
+) -> Result<(), SimError> {
     let s = sample(sys, t, y)?;
-    track(&mut out, &s);
-    emit.sample(&mut out, s)?;
-    out.evaluations = sys.evaluations;
-    out.wall = start.elapsed().as_secs_f64();
-    Ok(out)
+    track(out, &s);
+    emit.sample(out, s)
 }
 
 /// The checkpoints that change the dynamics: control instants `k·Δ` of
@@ -632,9 +824,9 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         let (tc, steps, pre, post) = split_at_crossing(sys, stepper, c, t, h, before, y)?;
         out.steps += steps;
         sys.plan[sys.active].mode.force_branch(c.index, pre);
-        emit.inside(out, sys, stepper, t, before, tc, y)?;
+        emit.inside(out, sys, stepper, (t, before), (tc, y))?;
         sys.plan[sys.active].mode.force_branch(c.index, post);
-        track_state(out, sys, tc, y)?;
+        track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
         out.events += 1;
         out.event_times.push((tc, c.index));
@@ -658,7 +850,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
         let holds = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt, yy: &_| s.condition_holds(tt, yy);
         let (tc, y_c) = locate_condition(sys, stepper, holds, (t, ts, h, before, y))?;
-        emit.inside(out, sys, stepper, t, before, tc, &y_c)?;
+        emit.inside(out, sys, stepper, (t, before), (tc, &y_c))?;
         release(sys, bps.len(), forced);
         *y = y_c;
         if let Some(b) = switch_segment(sys, emit, out, tc, y, self.locate_events)? {
@@ -667,7 +859,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         if sys.sampled {
             sys.held = sys.command(S::<B>::lit(tc), y);
         }
-        track_state(out, sys, tc, y)?;
+        track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
         stepper.reset();
         Ok(tc)
