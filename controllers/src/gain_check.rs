@@ -325,6 +325,31 @@ pub fn check_gains<B: Backend>(
     }
 }
 
+/// The unstable root λ₊ of `J s³ + k_Ω s² + (k_I − k_R) s − k_I c2`: the
+/// attitude loop (eqn:aM with eqn:eI) linearised at the rotation by π
+/// about a principal axis with moment of inertia `J`. Near that
+/// equilibrium the angle from it grows as `e^{λ₊ t}`, so the time to leave
+/// it from a distance δ grows as `ln(1/δ)/λ₊`: why "almost global"
+/// convergence is slow from near π.
+pub fn lambda_plus(j: f64, k_r: f64, k_omega: f64, k_i: f64, c2: f64) -> f64 {
+    let p = |s: f64| ((j * s + k_omega) * s + (k_i - k_r)) * s - k_i * c2;
+    // p(0) = −k_I c2 ≤ 0 and p → +∞: bisection on a bracket, then it is
+    // the only positive root when k_R > k_I (Descartes: one sign change).
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while p(hi) < 0.0 {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if p(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -341,5 +366,19 @@ mod tests {
         assert!((slowest_time_constant(1.0, 13.0, 32.0, 20.0) - 1.0).abs() < 1e-9);
         // (s+0.5)(s² + 2s + 5): complex pair at −1 ± 2i, slowest −0.5 → 2 s.
         assert!((slowest_time_constant(1.0, 2.5, 6.0, 2.5) - 2.0).abs() < 1e-9);
+    }
+
+    /// λ₊ against the cubic's value and the hand root for J = 0.0820:
+    /// p(2.14) < 0 < p(2.15).
+    #[test]
+    fn lambda_plus_is_the_positive_root() {
+        let (j, kr, kw, ki, c2) = (0.082, 0.65, 0.11, 0.06, 0.8);
+        let l = lambda_plus(j, kr, kw, ki, c2);
+        let p = |s: f64| j * s * s * s + kw * s * s + (ki - kr) * s - ki * c2;
+        assert!(p(l).abs() < 1e-12);
+        assert!(
+            p(2.14) < 0.0 && p(2.15) > 0.0 && (2.14..2.15).contains(&l),
+            "{l}"
+        );
     }
 }

@@ -59,7 +59,7 @@
 #![deny(missing_docs)]
 
 mod attitude_pid;
-mod gain_check;
+pub mod gain_check;
 mod mode;
 mod mode_scheduler;
 pub mod paper;

@@ -52,6 +52,7 @@
 pub mod builtin;
 mod from_scene;
 pub mod metrics;
+pub mod montecarlo;
 pub mod output;
 pub mod reference;
 pub mod scene;

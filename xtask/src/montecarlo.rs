@@ -1,41 +1,21 @@
 //! `cargo xtask montecarlo`: the paper's "almost global" attractivity
 //! (Propositions 2 and 3) checked over many random initial conditions.
-//!
-//! # Sampling
-//! Each sample's random numbers come from a ChaCha8 stream keyed by the
-//! seed, with the sample index as the stream number: sample `i` is the same
-//! whatever the thread count, the shard or the order of evaluation.
-//! - Attitude: a uniform unit quaternion by Shoemake's method (K. Shoemake,
-//!   "Uniform random rotations", Graphics Gems III, 1992): with
-//!   `u1, u2, u3 ~ U[0, 1)`, `q = (√(1−u1) sin 2πu2, √(1−u1) cos 2πu2,
-//!   √u1 sin 2πu3, √u1 cos 2πu3)`. Its rotation angle θ has density
-//!   `(1 − cos θ)/π` on `[0, π]` (a unit test checks this with a
-//!   Kolmogorov–Smirnov test, and that the test rejects a naive sampler).
-//! - Ω(0), e_x(0), v(0): uniform in a ball (rejection from the cube).
-//!
-//! # Convergence
-//! A sample converges when Ψ < `psi_tol` (and, in position mode,
-//! ‖e_x‖ < `x_tol`) holds for a hold time (`--hold`, 0.5 s by default)
-//! before the deadline; its time to converge is the start of that stretch,
-//! interpolated linearly inside the step where the worse of Ψ/psi_tol and
-//! ‖e_x‖/x_tol crosses 1. The run stops when the hold is over
-//! (`SimulationBuilder::stop_when`), so the tail is not integrated.
+//! The study itself (sampling, classification, statistics) is
+//! `scenarios::montecarlo`; this is its command line: arguments, shards and
+//! their merge, the output directory, progress, the figures, and the
+//! near-π experiment.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use controllers::ModeOutput;
+use controllers::gain_check::lambda_plus;
 use dynamics::RigidBodyState;
-use lie::{Backend, GlamF64, Real};
-use rand_chacha::ChaCha8Rng;
-use rand_chacha::rand_core::{Rng, SeedableRng};
-use rayon::prelude::*;
-use scenarios::scene::{AttitudeRef, DisturbanceSpec, Mode, PositionRef, SegmentSpec, ThrustSpec};
-use scenarios::{
-    Divergence, DivergenceGuard, RunOptions, Sample, Scene, Simulation, SwitchRecord, Termination,
-    builtin, output,
+use lie::{GlamF64, Real};
+use scenarios::montecarlo::{
+    DIVERGED_OMEGA, DIVERGED_X, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup, Summary,
 };
+use scenarios::{RunOptions, Scene, Simulation, builtin};
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -141,73 +121,61 @@ pub enum McAction {
     },
 }
 
-/// Everything that defines a sample's result besides its index; written
-/// into `run.json` so that `merge` refuses shards of different runs.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Setup {
-    pub experiment: String,
-    pub samples: u64,
-    pub seed: u64,
-    pub omega_max: f64,
-    pub x_max: f64,
-    pub v_max: f64,
-    pub psi_tol: f64,
-    pub x_tol: f64,
-    pub deadline: f64,
-    pub hold: f64,
-    pub integrator: String,
-    pub dt: f64,
-    pub tol: f64,
+/// The study's setup from the arguments.
+fn setup_from_args(a: &McArgs) -> Setup {
+    Setup {
+        experiment: a.experiment.name().into(),
+        samples: a.samples,
+        seed: a.seed,
+        omega_max: a.omega_max,
+        x_max: a.x_max,
+        v_max: a.v_max,
+        psi_tol: a.psi_tol,
+        x_tol: a.x_tol,
+        deadline: a.deadline,
+        hold: a.hold,
+        integrator: a.integrator.clone(),
+        dt: a.dt,
+        tol: a.tol,
+    }
 }
 
-impl Setup {
-    fn from_args(a: &McArgs) -> Self {
-        Self {
-            experiment: a.experiment.name().into(),
-            samples: a.samples,
-            seed: a.seed,
-            omega_max: a.omega_max,
-            x_max: a.x_max,
-            v_max: a.v_max,
-            psi_tol: a.psi_tol,
-            x_tol: a.x_tol,
-            deadline: a.deadline,
-            hold: a.hold,
-            integrator: a.integrator.clone(),
-            dt: a.dt,
-            tol: a.tol,
+/// The flags that reproduce `setup` on the command line.
+fn flags(setup: &Setup) -> String {
+    let mut f = format!("--experiment {} --seed {}", setup.experiment, setup.seed);
+    let d = setup_from_args(&default_args());
+    let mut opt = |name: &str, v: f64, dv: f64| {
+        if v != dv {
+            let _ = write!(f, " --{name} {v}");
+        }
+    };
+    opt("omega-max", setup.omega_max, d.omega_max);
+    opt("x-max", setup.x_max, d.x_max);
+    opt("v-max", setup.v_max, d.v_max);
+    opt("psi-tol", setup.psi_tol, d.psi_tol);
+    opt("x-tol", setup.x_tol, d.x_tol);
+    opt("deadline", setup.deadline, d.deadline);
+    opt("hold", setup.hold, d.hold);
+    opt("dt", setup.dt, d.dt);
+    if setup.integrator != d.integrator {
+        let _ = write!(f, " --integrator {}", setup.integrator);
+        if setup.integrator == "dopri" {
+            let _ = write!(f, " --tol {}", setup.tol);
         }
     }
+    f
+}
 
-    fn is_position(&self) -> bool {
-        self.experiment == "position"
-    }
-
-    /// The flags that reproduce this setup on the command line.
-    fn flags(&self) -> String {
-        let mut f = format!("--experiment {} --seed {}", self.experiment, self.seed);
-        let d = Setup::from_args(&default_args());
-        let mut opt = |name: &str, v: f64, dv: f64| {
-            if v != dv {
-                let _ = write!(f, " --{name} {v}");
-            }
-        };
-        opt("omega-max", self.omega_max, d.omega_max);
-        opt("x-max", self.x_max, d.x_max);
-        opt("v-max", self.v_max, d.v_max);
-        opt("psi-tol", self.psi_tol, d.psi_tol);
-        opt("x-tol", self.x_tol, d.x_tol);
-        opt("deadline", self.deadline, d.deadline);
-        opt("hold", self.hold, d.hold);
-        opt("dt", self.dt, d.dt);
-        if self.integrator != d.integrator {
-            let _ = write!(f, " --integrator {}", self.integrator);
-            if self.integrator == "dopri" {
-                let _ = write!(f, " --tol {}", self.tol);
-            }
-        }
-        f
-    }
+/// The experiment's scene with a sample's initial condition, described by
+/// the command that reproduces it: what `cargo xtask run` replays.
+pub fn scene(setup: &Setup, init: &Initial) -> Scene {
+    let mut s = setup.scene(init);
+    s.description = format!(
+        "A Monte Carlo sample of the {} experiment (cargo xtask montecarlo {}).",
+        setup.experiment,
+        flags(setup)
+    );
+    s
 }
 
 fn default_args() -> McArgs {
@@ -218,472 +186,6 @@ fn default_args() -> McArgs {
         a: McArgs,
     }
     P::parse_from(["montecarlo"]).a
-}
-
-/// A sample's random initial condition.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Initial {
-    /// Unit quaternion (w, x, y, z), w ≥ 0.
-    pub q: [f64; 4],
-    /// Body angular velocity, rad/s.
-    pub omega: [f64; 3],
-    /// Position (= e_x(0): x_d = 0), m.
-    pub x: [f64; 3],
-    /// Velocity, m/s.
-    pub v: [f64; 3],
-}
-
-impl Initial {
-    /// Rotation angle from R_d = I, in [0, π].
-    pub fn angle(&self) -> f64 {
-        let s = (self.q[1].powi(2) + self.q[2].powi(2) + self.q[3].powi(2)).sqrt();
-        2.0 * s.atan2(self.q[0])
-    }
-    /// Rotation axis (e1 for the identity).
-    pub fn axis(&self) -> [f64; 3] {
-        let s = (self.q[1].powi(2) + self.q[2].powi(2) + self.q[3].powi(2)).sqrt();
-        if s == 0.0 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [self.q[1] / s, self.q[2] / s, self.q[3] / s]
-        }
-    }
-    /// Rotation vector (axis × angle), the scene format's attitude.
-    pub fn rotation_vector(&self) -> [f64; 3] {
-        let (a, th) = (self.axis(), self.angle());
-        [a[0] * th, a[1] * th, a[2] * th]
-    }
-}
-
-fn uniform(rng: &mut ChaCha8Rng) -> f64 {
-    // 53 random bits: [0, 1) on the f64 grid.
-    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
-
-/// A uniform random unit quaternion (Shoemake), `w ≥ 0`.
-pub fn shoemake(rng: &mut ChaCha8Rng) -> [f64; 4] {
-    let (u1, u2, u3) = (uniform(rng), uniform(rng), uniform(rng));
-    let tau = std::f64::consts::TAU;
-    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
-    let (x, y, z, w) = (
-        a * (tau * u2).sin(),
-        a * (tau * u2).cos(),
-        b * (tau * u3).sin(),
-        b * (tau * u3).cos(),
-    );
-    if w < 0.0 {
-        [-w, -x, -y, -z]
-    } else {
-        [w, x, y, z]
-    }
-}
-
-/// A uniform point in the ball of radius `r` (rejection from the cube).
-pub fn in_ball(rng: &mut ChaCha8Rng, r: f64) -> [f64; 3] {
-    loop {
-        let p = [
-            2.0 * uniform(rng) - 1.0,
-            2.0 * uniform(rng) - 1.0,
-            2.0 * uniform(rng) - 1.0,
-        ];
-        if p.iter().map(|c| c * c).sum::<f64>() <= 1.0 {
-            return p.map(|c| c * r);
-        }
-    }
-}
-
-/// Sample `index`'s random stream.
-pub fn stream(seed: u64, index: u64) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(index);
-    rng
-}
-
-/// Sample `index`'s initial condition: a function of (seed, index) alone.
-pub fn initial(setup: &Setup, index: u64) -> Initial {
-    let mut rng = stream(setup.seed, index);
-    let q = shoemake(&mut rng);
-    let omega = in_ball(&mut rng, setup.omega_max);
-    let (x, v) = if setup.is_position() {
-        (
-            in_ball(&mut rng, setup.x_max),
-            in_ball(&mut rng, setup.v_max),
-        )
-    } else {
-        ([0.0; 3], [0.0; 3])
-    };
-    Initial { q, omega, x, v }
-}
-
-/// The experiment's scene with a sample's initial condition: what
-/// `cargo xtask run` replays.
-pub fn scene(setup: &Setup, init: &Initial) -> Scene {
-    let mut s = if setup.is_position() {
-        let mut s = builtin::hover_disturbed();
-        s.plan = vec![SegmentSpec {
-            mode: Mode::Position,
-            until: None,
-            until_psi: None,
-            attitude: None,
-            position: Some(PositionRef::Hold {
-                x: [0.0; 3],
-                b1d: [1.0, 0.0, 0.0],
-            }),
-            thrust: ThrustSpec::Hover,
-        }];
-        s
-    } else {
-        let mut s = builtin::large_attitude_error();
-        s.disturbance = Some(DisturbanceSpec::paper());
-        s.plan = vec![SegmentSpec {
-            mode: Mode::Attitude,
-            until: None,
-            until_psi: None,
-            attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
-            position: None,
-            thrust: ThrustSpec::Hover,
-        }];
-        s
-    };
-    s.name = format!("montecarlo-{}", setup.experiment);
-    s.description = format!(
-        "A Monte Carlo sample of the {} experiment (cargo xtask montecarlo {}).",
-        setup.experiment,
-        setup.flags()
-    );
-    s.backend = scenarios::scene::BackendKind::Glam;
-    s.initial.rotation = init.rotation_vector();
-    s.initial.omega = init.omega;
-    s.initial.x = init.x;
-    s.initial.v = init.v;
-    s.integrator.kind = setup.integrator.clone();
-    s.integrator.dt = setup.dt;
-    s.integrator.tol = setup.tol;
-    s.duration = setup.deadline;
-    // Peaks (thrust, rotor thrust) are taken over this grid; dopri's
-    // calls end on it.
-    s.record.sample = 0.02;
-    s
-}
-
-/// |Ω| above which a sample counts as diverged, rad/s (100× the default
-/// initial ball): the position law's computed attitude is singular where
-/// b3c ∥ b1d, and a trajectory that passes near it spins up without bound.
-pub const DIVERGED_OMEGA: f64 = 200.0;
-/// ‖e_x‖ above which a sample counts as diverged, m.
-pub const DIVERGED_X: f64 = 100.0;
-/// ‖M‖ of the command above which a sample counts as diverged, N m: 40×
-/// the largest moment any converging sample of a 10 000-sample run
-/// commanded (rotor peaks to 2.4e4 N on the 0.02 s grid, ≈ 7.6e3 N m),
-/// and ~10⁵× what the paper's rotors deliver. Without it, a diverging
-/// sample spends ~4·10⁵ adaptive steps before |Ω| passes its bound.
-pub const DIVERGED_MOMENT: f64 = 3e5;
-
-/// Substeps one dopri call (one 0.02 s record interval) may take: converging
-/// samples take a few; a blow-up near the computed attitude's singularity
-/// took 4·10⁶ in one call before the cap.
-pub const MAX_SUBSTEPS: u32 = 20_000;
-
-/// How a sample ended.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Status {
-    /// The tolerances held for the hold time before the deadline.
-    Converged,
-    /// The deadline came first.
-    Deadline,
-    /// |Ω|, ‖e_x‖ or ‖M‖ passed [`DIVERGED_OMEGA`] / [`DIVERGED_X`] /
-    /// [`DIVERGED_MOMENT`], or a dopri call needed more than
-    /// [`MAX_SUBSTEPS`].
-    Diverged,
-    /// The integrator stopped (a non-finite state at this step size).
-    Error,
-}
-
-impl Status {
-    fn name(self) -> &'static str {
-        match self {
-            Status::Converged => "converged",
-            Status::Deadline => "deadline",
-            Status::Diverged => "diverged",
-            Status::Error => "error",
-        }
-    }
-    fn parse(s: &str) -> Option<Self> {
-        [
-            Status::Converged,
-            Status::Deadline,
-            Status::Diverged,
-            Status::Error,
-        ]
-        .into_iter()
-        .find(|x| x.name() == s)
-    }
-}
-
-/// One sample's result (a row of `samples.csv`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Outcome {
-    pub index: u64,
-    pub angle: f64,
-    pub axis: [f64; 3],
-    pub omega0: f64,
-    pub ex0: f64,
-    pub converged: bool,
-    /// Time to converge, s (NaN when not converged).
-    pub t_converge: f64,
-    pub final_psi: f64,
-    pub final_ex: f64,
-    pub max_thrust: f64,
-    pub max_rotor: f64,
-    /// Integrator steps (0 when the integrator stopped the sample: the
-    /// count is lost with the run).
-    pub steps: u64,
-    pub status: Status,
-}
-
-/// The header of `samples.csv`.
-pub const SAMPLES_HEADER: &str = "index,angle,axis1,axis2,axis3,omega0,ex0,converged,t_converge,final_psi,final_ex,max_thrust,max_rotor,steps,status";
-
-impl Outcome {
-    fn csv(&self) -> String {
-        format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            self.index,
-            self.angle,
-            self.axis[0],
-            self.axis[1],
-            self.axis[2],
-            self.omega0,
-            self.ex0,
-            u8::from(self.converged),
-            self.t_converge,
-            self.final_psi,
-            self.final_ex,
-            self.max_thrust,
-            self.max_rotor,
-            self.steps,
-            self.status.name()
-        )
-    }
-
-    fn parse(line: &str) -> Result<Self, String> {
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 15 {
-            return Err(format!("{} fields, expected 15", f.len()));
-        }
-        let n = |k: usize| -> Result<f64, String> {
-            f[k].parse::<f64>()
-                .map_err(|e| format!("field {k} `{}`: {e}", f[k]))
-        };
-        let u = |k: usize| -> Result<u64, String> {
-            f[k].parse::<u64>()
-                .map_err(|e| format!("field {k} `{}`: {e}", f[k]))
-        };
-        Ok(Self {
-            index: u(0)?,
-            angle: n(1)?,
-            axis: [n(2)?, n(3)?, n(4)?],
-            omega0: n(5)?,
-            ex0: n(6)?,
-            converged: u(7)? == 1,
-            t_converge: n(8)?,
-            final_psi: n(9)?,
-            final_ex: n(10)?,
-            max_thrust: n(11)?,
-            max_rotor: n(12)?,
-            steps: u(13)?,
-            status: Status::parse(f[14]).ok_or_else(|| format!("status `{}`", f[14]))?,
-        })
-    }
-}
-
-/// Largest commanded and rotor thrust over the samples a run takes.
-#[derive(Default)]
-struct Peaks {
-    thrust: f64,
-    rotor: f64,
-}
-
-impl output::Sink for Peaks {
-    fn begin(&mut self, _: &[&'static str]) -> Result<(), output::OutputError> {
-        Ok(())
-    }
-    fn switch(&mut self, _: &SwitchRecord, _: &str) -> Result<(), output::OutputError> {
-        Ok(())
-    }
-    fn sample(&mut self, s: &Sample) -> Result<(), output::OutputError> {
-        self.thrust = self.thrust.max(s.thrust.abs());
-        self.rotor = s.rotors.iter().fold(self.rotor, |a, r| a.max(r.abs()));
-        Ok(())
-    }
-}
-
-/// The convergence predicate with its hold: `m(t) = max(Ψ/psi_tol,
-/// ‖e_x‖/x_tol) < 1` from `entered` on, for `hold` seconds. Calls at
-/// earlier times than the latest (the stop's bisection inside the last
-/// step) read the state without changing it.
-struct Hold {
-    hold: f64,
-    entered: Option<f64>,
-    last: Option<(f64, f64)>,
-}
-
-impl Hold {
-    fn check(&mut self, t: f64, m: f64) -> bool {
-        let inside = m < 1.0;
-        if let Some((tl, _)) = self.last
-            && t <= tl
-        {
-            return inside && self.entered.is_some_and(|e| t - e >= self.hold);
-        }
-        if inside {
-            if self.entered.is_none() {
-                // Linear interpolation of m inside the step for the
-                // crossing of 1.
-                let te = match self.last {
-                    Some((tl, ml)) if ml > 1.0 && ml.is_finite() => {
-                        tl + (t - tl) * (ml - 1.0) / (ml - m)
-                    }
-                    _ => t,
-                };
-                self.entered = Some(te);
-            }
-        } else {
-            self.entered = None;
-        }
-        self.last = Some((t, m));
-        inside && self.entered.is_some_and(|e| t - e >= self.hold)
-    }
-}
-
-/// Runs one sample.
-pub fn run_sample(setup: &Setup, index: u64) -> Result<Outcome, String> {
-    type B = GlamF64;
-    let init = initial(setup, index);
-    let sc = scene(setup, &init);
-    let vehicle = scenarios::build_vehicle::<B>(&sc).map_err(|e| e.to_string())?;
-    let plan = scenarios::plan::<B>(&sc, vehicle.as_ref());
-    let kind: integrators::IntegratorKind = setup.integrator.parse().map_err(|e| format!("{e}"))?;
-    let stepper =
-        integrators::Stepper::<B, 6>::new(kind, integrators::StepperConfig { tol: setup.tol });
-    let body = {
-        let mut b = RigidBodyState::<B>::at_rest();
-        let r = scenarios::reference::rotation_f64(sc.initial.rotation);
-        b.r = lie::ops::from_elems::<B>(r);
-        b.omega = B::vec3(init.omega[0], init.omega[1], init.omega[2]);
-        b.x = B::vec3(init.x[0], init.x[1], init.x[2]);
-        b.v = B::vec3(init.v[0], init.v[1], init.v[2]);
-        b
-    };
-    let (psi_tol, x_tol, position) = (setup.psi_tol, setup.x_tol, setup.is_position());
-    let mut hold = Hold {
-        hold: setup.hold,
-        entered: None,
-        last: None,
-    };
-    let entered = std::cell::Cell::new(None);
-    let stop = Box::new(
-        |t: f64, st: &RigidBodyState<B>, out: &ModeOutput<B>| -> bool {
-            let mut m = out.psi.to_f64_lossless() / psi_tol;
-            if position {
-                let x = B::vec3_to_array(st.x);
-                m = m.max((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() / x_tol);
-            }
-            let done = hold.check(t, m);
-            entered.set(hold.entered);
-            done
-        },
-    );
-    // A capped dopri: a call that needs more than MAX_SUBSTEPS substeps is
-    // a solution blowing up between two checks of the state limits.
-    let guard = DivergenceGuard {
-        omega: Some(DIVERGED_OMEGA),
-        position_error: Some(DIVERGED_X),
-        moment: None,
-        substeps: (kind == integrators::IntegratorKind::Dopri).then_some(MAX_SUBSTEPS),
-    };
-    let mut b = Simulation::<B, 6>::builder(vehicle)
-        .initial(body)
-        .dt(setup.dt)
-        .duration(setup.deadline)
-        .record_every(sc.record.sample)
-        .stop_when(stop)
-        .guard(guard);
-    for seg in plan {
-        b = b.segment(seg);
-    }
-    let mut peaks = Peaks::default();
-    // The peaks come from the samples; the run's own per-step extrema
-    // would cost a controller evaluation per step for nothing.
-    let opts = RunOptions {
-        record: false,
-        sink: Some(&mut peaks),
-        extrema: false,
-        ..Default::default()
-    };
-    let result = b
-        .integrator(stepper)
-        .build()
-        .map_err(|e| e.to_string())?
-        .run(opts);
-    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    // A run cut off inside an integrator call (the substep cap) or by a
-    // step that produced a non-finite state has no final figures worth
-    // keeping: the row says NaN and 0 steps.
-    let cut = |status| Outcome {
-        index,
-        angle: init.angle(),
-        axis: init.axis(),
-        omega0: norm(init.omega),
-        ex0: norm(init.x),
-        converged: false,
-        t_converge: f64::NAN,
-        final_psi: f64::NAN,
-        final_ex: f64::NAN,
-        max_thrust: peaks.thrust,
-        max_rotor: peaks.rotor,
-        steps: 0,
-        status,
-    };
-    let out = match result {
-        Ok(out) => out,
-        // Any failed step (a non-finite state, an LGVI without a solution
-        // at this step) is the sample's own result; the study goes on.
-        Err(scenarios::SimError::Step { .. }) => return Ok(cut(Status::Error)),
-        Err(e) => return Err(format!("sample {index}: {e}")),
-    };
-    let status = match out.termination {
-        Termination::Diverged {
-            what: Divergence::Substeps(_),
-            ..
-        } => return Ok(cut(Status::Diverged)),
-        Termination::Diverged { .. } => Status::Diverged,
-        Termination::StoppedBy { .. } => Status::Converged,
-        Termination::Completed => Status::Deadline,
-        Termination::Interrupted { t } => {
-            return Err(format!("sample {index}: interrupted at t = {t}"));
-        }
-    };
-    let converged = status == Status::Converged;
-    Ok(Outcome {
-        index,
-        angle: init.angle(),
-        axis: init.axis(),
-        omega0: norm(init.omega),
-        ex0: norm(init.x),
-        converged,
-        t_converge: if converged {
-            entered.get().unwrap_or(f64::NAN)
-        } else {
-            f64::NAN
-        },
-        final_psi: out.last.psi,
-        final_ex: out.last.ex,
-        max_thrust: peaks.thrust,
-        max_rotor: peaks.rotor,
-        steps: out.steps,
-        status,
-    })
 }
 
 /// `K/N`.
@@ -714,36 +216,18 @@ pub fn run_indices(
     threads: usize,
     progress: Option<&indicatif::ProgressBar>,
 ) -> Result<Vec<Outcome>, String> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| format!("--threads {threads}: {e}"))?;
-    let done = AtomicU64::new(0);
-    pool.install(|| {
-        indices
-            .par_iter()
-            .map(|&i| {
-                let r = run_sample(setup, i);
-                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(p) = progress
-                    && (n.is_multiple_of(16) || n == indices.len() as u64)
-                {
-                    p.set_position(n);
-                }
-                r
-            })
-            .collect()
-    })
+    let report = |n: u64| {
+        if let Some(p) = progress {
+            p.set_position(n);
+        }
+    };
+    setup
+        .run(indices, Some(threads), Some(&report))
+        .map_err(|e| e.to_string())
 }
 
 fn write_samples(dir: &Path, rows: &[Outcome]) -> Result<(), String> {
-    let mut text = String::with_capacity(rows.len() * 200);
-    text.push_str(SAMPLES_HEADER);
-    text.push('\n');
-    for r in rows {
-        text.push_str(&r.csv());
-        text.push('\n');
-    }
+    let text = scenarios::montecarlo::write_samples(rows);
     write_atomic(&dir.join("samples.csv"), text.as_bytes())
 }
 
@@ -758,32 +242,14 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
 fn read_samples(dir: &Path) -> Result<Vec<Outcome>, String> {
     let path = dir.join("samples.csv");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut lines = text.lines();
-    if lines.next() != Some(SAMPLES_HEADER) {
-        return Err(format!("{}: not a samples.csv (header)", path.display()));
-    }
-    lines
-        .enumerate()
-        .map(|(k, l)| Outcome::parse(l).map_err(|e| format!("{}:{}: {e}", path.display(), k + 2)))
-        .collect()
-}
-
-/// Percentile by the nearest-rank method over sorted values.
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let rank = ((p / 100.0) * sorted.len() as f64).ceil().max(1.0) as usize;
-    sorted[rank.min(sorted.len()) - 1]
+    scenarios::montecarlo::parse_samples(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The summary of a complete run (all indices present).
 pub fn summarize(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> serde_json::Value {
     let n = rows.len();
-    let conv: Vec<&Outcome> = rows.iter().filter(|r| r.converged).collect();
-    let mut t: Vec<f64> = conv.iter().map(|r| r.t_converge).collect();
-    t.sort_by(f64::total_cmp);
-    let steps: u64 = rows.iter().map(|r| r.steps).sum();
+    let sum = Summary::from_rows(rows.iter().map(|r| (r.status, r.t_converge, r.steps)));
+    let steps = sum.integrator_steps;
     let mut slow: Vec<&Outcome> = rows.iter().collect();
     // Not converged first, then by time to converge, slowest first.
     slow.sort_by(|a, b| {
@@ -800,24 +266,19 @@ pub fn summarize(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> serde_js
             serde_json::json!({
                 "index": r.index, "converged": r.converged, "status": r.status.name(), "t_converge": r.t_converge,
                 "angle_deg": r.angle.to_degrees(), "axis": r.axis, "omega0": r.omega0, "ex0": r.ex0,
-                "command": format!("cargo xtask montecarlo {} --index {}", setup.flags(), r.index),
+                "command": format!("cargo xtask montecarlo {} --index {}", flags(setup), r.index),
             })
         })
         .collect();
     let mut v = serde_json::json!({
         "setup": setup,
         "samples": n,
-        "converged": conv.len(),
-        "deadline": rows.iter().filter(|r| r.status == Status::Deadline).count(),
-        "diverged": rows.iter().filter(|r| r.status == Status::Diverged).count(),
-        "errors": rows.iter().filter(|r| r.status == Status::Error).count(),
-        "converged_fraction": conv.len() as f64 / n.max(1) as f64,
-        "t_converge": {
-            "median": percentile(&t, 50.0),
-            "p95": percentile(&t, 95.0),
-            "p99": percentile(&t, 99.0),
-            "worst": t.last().copied().unwrap_or(f64::NAN),
-        },
+        "converged": sum.converged,
+        "deadline": sum.deadline,
+        "diverged": sum.diverged,
+        "errors": sum.errors,
+        "converged_fraction": sum.converged_fraction,
+        "t_converge": sum.t_converge,
         "largest_angle_deg": rows.iter().map(|r| r.angle).fold(0.0, f64::max).to_degrees(),
         "max_rotor_thrust": rows.iter().map(|r| r.max_rotor).fold(0.0, f64::max),
         "integrator_steps": steps,
@@ -841,7 +302,7 @@ fn print_summary(s: &serde_json::Value) {
         f("/largest_angle_deg"),
     );
     println!(
-        "not converged: {} at the deadline, {} diverged (|Ω| > {DIVERGED_OMEGA} rad/s, ‖e_x‖ > {DIVERGED_X} m or ‖M‖ > {DIVERGED_MOMENT:e} N m), {} integrator errors",
+        "not converged: {} at the deadline, {} diverged (|Ω| > {DIVERGED_OMEGA} rad/s, ‖e_x‖ > {DIVERGED_X} m, or more than {MAX_SUBSTEPS} substeps in one dopri call), {} integrator errors",
         s["deadline"], s["diverged"], s["errors"]
     );
     println!(
@@ -895,7 +356,7 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
         .filter(|r| r.converged)
         .max_by(|a, b| a.t_converge.total_cmp(&b.t_converge));
     if let Some(r) = worst {
-        let mut sc = scene(setup, &initial(setup, r.index));
+        let mut sc = scene(setup, &setup.initial(r.index));
         // Long enough to see the convergence and a little after.
         sc.duration = (r.t_converge + setup.hold + 2.0).min(setup.deadline);
         sc.name = format!("montecarlo-{}-slowest-{}", setup.experiment, r.index);
@@ -922,7 +383,7 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         Some(McAction::NearPi { out }) => return near_pi(out.as_deref()),
         None => {}
     }
-    let setup = Setup::from_args(&a);
+    let setup = setup_from_args(&a);
     let checks = [
         ("--omega-max", setup.omega_max, true),
         ("--x-max", setup.x_max, true),
@@ -959,14 +420,14 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
                 setup.samples
             ));
         }
-        let r = run_sample(&setup, i)?;
+        let r = setup.run_sample(i).map_err(|e| e.to_string())?;
         println!("{SAMPLES_HEADER}\n{}", r.csv());
         let dir = a
             .out
             .clone()
             .unwrap_or_else(|| default_out(&setup.experiment));
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let mut sc = scene(&setup, &initial(&setup, i));
+        let mut sc = scene(&setup, &setup.initial(i));
         sc.name = format!("montecarlo-{}-{i}", setup.experiment);
         let path = dir.join(format!("sample-{i}.toml"));
         write_atomic(&path, sc.to_toml().as_bytes())?;
@@ -1101,28 +562,6 @@ pub fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), String> {
     finish(&dir, &setup, &rows, None)
 }
 
-/// The unstable root λ₊ of `J s³ + k_Ω s² + (k_I − k_R) s − k_I c2`: the
-/// attitude loop linearised at the rotation by π about a principal axis
-/// with moment of inertia `J` (see [`near_pi`]).
-pub fn lambda_plus(j: f64, k_r: f64, k_omega: f64, k_i: f64, c2: f64) -> f64 {
-    let p = |s: f64| ((j * s + k_omega) * s + (k_i - k_r)) * s - k_i * c2;
-    // p(0) = −k_I c2 ≤ 0 and p → +∞: bisection on a bracket, then it is
-    // the only positive root when k_R > k_I (Descartes: one sign change).
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while p(hi) < 0.0 {
-        hi *= 2.0;
-    }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if p(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// `cargo xtask montecarlo near-pi`.
 ///
 /// Near the rotation by π about a principal axis `a` (moment of inertia
@@ -1236,95 +675,11 @@ pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    /// Kolmogorov–Smirnov statistic of `xs` against the CDF `f`.
-    fn ks(mut xs: Vec<f64>, f: impl Fn(f64) -> f64) -> f64 {
-        xs.sort_by(f64::total_cmp);
-        let n = xs.len() as f64;
-        xs.iter()
-            .enumerate()
-            .map(|(i, &x)| {
-                let c = f(x);
-                (c - i as f64 / n).abs().max(((i + 1) as f64 / n - c).abs())
-            })
-            .fold(0.0, f64::max)
-    }
-
-    /// The rotation angle of a uniform rotation has density (1 − cos θ)/π,
-    /// CDF (θ − sin θ)/π. With n = 20 000 the KS critical value at
-    /// α = 0.001 is 1.949/√n = 0.0138; a naive sampler (a uniform
-    /// rotation vector in the ball of radius π) must fail the same test.
-    #[test]
-    fn shoemake_angles_pass_kolmogorov_smirnov() {
-        let n = 20_000;
-        let cdf = |th: f64| (th - th.sin()) / std::f64::consts::PI;
-        let crit = 1.949 / (n as f64).sqrt();
-        let angles: Vec<f64> = (0..n)
-            .map(|i| {
-                let mut r = stream(7, i);
-                Initial {
-                    q: shoemake(&mut r),
-                    omega: [0.0; 3],
-                    x: [0.0; 3],
-                    v: [0.0; 3],
-                }
-                .angle()
-            })
-            .collect();
-        let d = ks(angles, cdf);
-        println!("KS D = {d:.5} (critical {crit:.5} at α = 0.001, n = {n})");
-        assert!(d < crit, "D = {d}");
-        let naive: Vec<f64> = (0..n)
-            .map(|i| {
-                let p = in_ball(&mut stream(7, i), std::f64::consts::PI);
-                (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
-            })
-            .collect();
-        let dn = ks(naive, cdf);
-        println!("naive sampler: KS D = {dn:.5}");
-        assert!(
-            dn > 5.0 * crit,
-            "the test must reject a naive sampler: D = {dn}"
-        );
-    }
-
-    /// A sample's numbers depend on (seed, index) only.
-    #[test]
-    fn streams_are_keyed_by_seed_and_index() {
-        let s = Setup::from_args(&default_args());
-        assert_eq!(initial(&s, 5), initial(&s, 5));
-        assert_ne!(initial(&s, 5), initial(&s, 6));
-        let mut s2 = s.clone();
-        s2.seed = 2;
-        assert_ne!(initial(&s, 5), initial(&s2, 5));
-        // Balls are respected.
-        for i in 0..200 {
-            let p = initial(&s, i);
-            let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-            assert!(n(p.omega) <= s.omega_max && n(p.x) <= s.x_max && n(p.v) <= s.v_max);
-            let q = p.q;
-            assert!((q.iter().map(|c| c * c).sum::<f64>() - 1.0).abs() < 1e-15);
-        }
-    }
-
-    /// λ₊ against the cubic's value and the hand root for J = 0.0820:
-    /// p(2.14) < 0 < p(2.15).
-    #[test]
-    fn lambda_plus_is_the_positive_root() {
-        let (j, kr, kw, ki, c2) = (0.082, 0.65, 0.11, 0.06, 0.8);
-        let l = lambda_plus(j, kr, kw, ki, c2);
-        let p = |s: f64| j * s * s * s + kw * s * s + (ki - kr) * s - ki * c2;
-        assert!(p(l).abs() < 1e-12);
-        assert!(
-            p(2.14) < 0.0 && p(2.15) > 0.0 && (2.14..2.15).contains(&l),
-            "{l}"
-        );
-    }
-
-    /// Two shards merged give the single run's samples.csv byte for byte,
-    /// and one thread or two give the same rows.
+    /// Two shards merged give the single run's samples.csv byte for byte;
+    /// a missing shard is an error naming the gap.
     #[test]
     fn shards_merged_equal_one_run() {
-        let mut setup = Setup::from_args(&default_args());
+        let mut setup = setup_from_args(&default_args());
         setup.samples = 6;
         setup.deadline = 2.0;
         let base = std::env::temp_dir().join(format!("gpid-mc-{}", std::process::id()));
@@ -1335,10 +690,6 @@ mod tests {
         };
         let all: Vec<u64> = (0..6).collect();
         let one = run_indices(&setup, &all, 1, None).unwrap();
-        let two = run_indices(&setup, &all, 2, None).unwrap();
-        // As text: NaN (not converged) is not equal to itself as f64.
-        let text = |r: &[Outcome]| r.iter().map(Outcome::csv).collect::<Vec<_>>();
-        assert_eq!(text(&one), text(&two));
         write_samples(&d("single"), &one).unwrap();
         let mut dirs = Vec::new();
         for k in 0..2u64 {
@@ -1353,22 +704,9 @@ mod tests {
             std::fs::read(base.join("merged/samples.csv")).unwrap(),
             std::fs::read(base.join("single/samples.csv")).unwrap()
         );
-        // A missing shard is an error naming the gap.
         let e = merge(&dirs[..1], Some(&d("bad"))).unwrap_err();
         assert!(e.contains("missing"), "{e}");
         std::fs::remove_dir_all(&base).ok();
-    }
-
-    /// Sample 4331 of seed 1 blows up (|Ω| ~ 10⁵ rad/s within 2 s); the
-    /// capped dopri stops it and it counts as diverged (before the cap it
-    /// took 4.9·10⁶ steps; now it is one call's 20 000).
-    #[test]
-    fn a_blow_up_is_diverged_and_cheap() {
-        let mut setup = Setup::from_args(&default_args());
-        setup.samples = 10_000;
-        let r = run_sample(&setup, 4331).unwrap();
-        assert_eq!(r.status, Status::Diverged);
-        assert!(!r.converged && r.t_converge.is_nan());
     }
 
     #[test]
@@ -1379,24 +717,16 @@ mod tests {
         assert!(parse_shard("x").is_err());
     }
 
-    /// The convergence hold: enters at the interpolated crossing, resets
-    /// when the tolerance is lost, and ignores earlier (bisection) times.
+    /// The flags reproduce the setup: only what differs from the defaults.
     #[test]
-    fn hold_interpolates_and_resets() {
-        let mut h = Hold {
-            hold: 0.5,
-            entered: None,
-            last: None,
-        };
-        assert!(!h.check(0.0, 3.0));
-        assert!(!h.check(1.0, 0.5)); // crossing of 1 at 0.8
-        assert!((h.entered.unwrap() - 0.8).abs() < 1e-15);
-        assert!(!h.check(1.2, 0.9));
-        assert!(h.check(1.4, 0.8));
-        // A bisection call inside the last step reads without changing.
-        assert!(!h.check(1.25, 0.8));
-        assert!(h.check(1.35, 0.8));
-        assert!(!h.check(1.5, 1.5));
-        assert_eq!(h.entered, None);
+    fn flags_name_what_differs() {
+        let mut s = setup_from_args(&default_args());
+        assert_eq!(flags(&s), "--experiment position --seed 1");
+        s.hold = 1.0;
+        s.integrator = "rk4".into();
+        assert_eq!(
+            flags(&s),
+            "--experiment position --seed 1 --hold 1 --integrator rk4"
+        );
     }
 }

@@ -162,7 +162,7 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
 /// converge, one dot a sample; samples that did not converge sit on the
 /// top edge in red) and `time_histogram.svg` (time to converge) for
 /// `cargo xtask montecarlo`.
-pub fn montecarlo(dir: &Path, rows: &[crate::montecarlo::Outcome]) -> Result<(), String> {
+pub fn montecarlo(dir: &Path, rows: &[scenarios::montecarlo::Outcome]) -> Result<(), String> {
     let err = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
     let t: Vec<f64> = rows
         .iter()

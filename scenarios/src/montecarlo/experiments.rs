@@ -1,0 +1,431 @@
+//! The two built-in experiments, the paper's "almost global" attractivity
+//! (its Propositions 2 and 3) over random initial conditions: the pinned
+//! vehicle in attitude mode from uniform random attitudes, and the free
+//! quadrotor in position mode from random attitudes, positions and
+//! velocities. Each is a [`Study`] with fixed draws, simulation and settle
+//! metric; [`Outcome`] is a row of their `samples.csv`.
+
+use controllers::ModeOutput;
+use dynamics::RigidBodyState;
+use lie::{Backend, GlamF64, Real};
+
+use super::{Status, Stream, Study, in_ball, shoemake};
+use crate::scene::{AttitudeRef, DisturbanceSpec, Mode, PositionRef, SegmentSpec, ThrustSpec};
+use crate::sim::{DivergenceGuard, SimError, Simulation, SimulationBuilder};
+use crate::{Divergence, Scene, builtin};
+
+type B = GlamF64;
+
+/// Which built-in experiment.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Experiment {
+    /// The pinned vehicle in attitude mode, R_d = I, Ω_d = 0, with the
+    /// paper's disturbance Δ_R.
+    Attitude,
+    /// The free quadrotor in position mode to hover at 0, b1d = e1, with
+    /// Δ_x and Δ_R.
+    Position,
+}
+
+impl Experiment {
+    /// `attitude` or `position`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Experiment::Attitude => "attitude",
+            Experiment::Position => "position",
+        }
+    }
+}
+
+/// |Ω| above which a sample counts as diverged, rad/s (100× the default
+/// initial ball): the position law's computed attitude is singular where
+/// b3c ∥ b1d, and a trajectory that passes near it spins up without bound.
+pub const DIVERGED_OMEGA: f64 = 200.0;
+/// ‖e_x‖ above which a sample counts as diverged, m.
+pub const DIVERGED_X: f64 = 100.0;
+/// Substeps one dopri call (one 0.02 s record interval) may take:
+/// converging samples take a few; a blow-up near the computed attitude's
+/// singularity took 4·10⁶ in one call before the cap.
+pub const MAX_SUBSTEPS: u32 = 20_000;
+
+/// Everything that defines a sample's result besides its index (what a
+/// shard's `run.json` records so that shards of different runs are not
+/// merged).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Setup {
+    /// `attitude` or `position`.
+    pub experiment: String,
+    /// Number of samples (indices 0 … N−1).
+    pub samples: u64,
+    /// Seed of every sample's stream.
+    pub seed: u64,
+    /// Radius of the ball Ω(0) is drawn from, rad/s.
+    pub omega_max: f64,
+    /// Radius of the ball e_x(0) is drawn from, m (position).
+    pub x_max: f64,
+    /// Radius of the ball v(0) is drawn from, m/s (position).
+    pub v_max: f64,
+    /// Ψ below which a sample counts as settled.
+    pub psi_tol: f64,
+    /// ‖e_x‖ below which a sample counts as settled (position), m.
+    pub x_tol: f64,
+    /// Simulated time a sample has to converge, s.
+    pub deadline: f64,
+    /// How long the tolerances must hold, s.
+    pub hold: f64,
+    /// Integrator name.
+    pub integrator: String,
+    /// Step, s (dopri: longest call).
+    pub dt: f64,
+    /// dopri tolerance.
+    pub tol: f64,
+}
+
+/// A sample's random initial condition.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Initial {
+    /// Unit quaternion (w, x, y, z), w ≥ 0.
+    pub q: [f64; 4],
+    /// Body angular velocity, rad/s.
+    pub omega: [f64; 3],
+    /// Position (= e_x(0): x_d = 0), m.
+    pub x: [f64; 3],
+    /// Velocity, m/s.
+    pub v: [f64; 3],
+}
+
+impl Initial {
+    /// Rotation angle from R_d = I, in [0, π].
+    pub fn angle(&self) -> f64 {
+        let s = (self.q[1].powi(2) + self.q[2].powi(2) + self.q[3].powi(2)).sqrt();
+        2.0 * s.atan2(self.q[0])
+    }
+    /// Rotation axis (e1 for the identity).
+    pub fn axis(&self) -> [f64; 3] {
+        let s = (self.q[1].powi(2) + self.q[2].powi(2) + self.q[3].powi(2)).sqrt();
+        if s == 0.0 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [self.q[1] / s, self.q[2] / s, self.q[3] / s]
+        }
+    }
+    /// Rotation vector (axis × angle), the scene format's attitude.
+    pub fn rotation_vector(&self) -> [f64; 3] {
+        let (a, th) = (self.axis(), self.angle());
+        [a[0] * th, a[1] * th, a[2] * th]
+    }
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+impl Setup {
+    /// The experiment.
+    pub fn experiment(&self) -> Result<Experiment, SimError> {
+        match self.experiment.as_str() {
+            "attitude" => Ok(Experiment::Attitude),
+            "position" => Ok(Experiment::Position),
+            e => Err(SimError::Setting {
+                field: "experiment",
+                message: format!("`{e}`: expected attitude or position"),
+            }),
+        }
+    }
+
+    fn is_position(&self) -> bool {
+        self.experiment == "position"
+    }
+
+    /// Draws an initial condition from a sample's stream.
+    pub fn draw(&self, rng: &mut Stream) -> Initial {
+        let q = shoemake(rng);
+        let omega = in_ball(rng, self.omega_max);
+        let (x, v) = if self.is_position() {
+            (in_ball(rng, self.x_max), in_ball(rng, self.v_max))
+        } else {
+            ([0.0; 3], [0.0; 3])
+        };
+        Initial { q, omega, x, v }
+    }
+
+    /// Sample `index`'s initial condition: a function of (seed, index)
+    /// alone.
+    pub fn initial(&self, index: u64) -> Initial {
+        self.draw(&mut super::stream(self.seed, index))
+    }
+
+    /// The experiment's scene with a sample's initial condition, to replay
+    /// it (its description names the experiment).
+    pub fn scene(&self, init: &Initial) -> Scene {
+        let mut s = if self.is_position() {
+            let mut s = builtin::hover_disturbed();
+            s.plan = vec![SegmentSpec {
+                mode: Mode::Position,
+                until: None,
+                until_psi: None,
+                attitude: None,
+                position: Some(PositionRef::Hold {
+                    x: [0.0; 3],
+                    b1d: [1.0, 0.0, 0.0],
+                }),
+                thrust: ThrustSpec::Hover,
+            }];
+            s
+        } else {
+            let mut s = builtin::large_attitude_error();
+            s.disturbance = Some(DisturbanceSpec::paper());
+            s.plan = vec![SegmentSpec {
+                mode: Mode::Attitude,
+                until: None,
+                until_psi: None,
+                attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
+                position: None,
+                thrust: ThrustSpec::Hover,
+            }];
+            s
+        };
+        s.name = format!("montecarlo-{}", self.experiment);
+        s.description = format!(
+            "A Monte Carlo sample of the {} experiment.",
+            self.experiment
+        );
+        s.backend = crate::scene::BackendKind::Glam;
+        s.initial.rotation = init.rotation_vector();
+        s.initial.omega = init.omega;
+        s.initial.x = init.x;
+        s.initial.v = init.v;
+        s.integrator.kind = self.integrator.clone();
+        s.integrator.dt = self.dt;
+        s.integrator.tol = self.tol;
+        s.duration = self.deadline;
+        // Peaks (thrust, rotor thrust) are taken over this grid; dopri's
+        // calls end on it.
+        s.record.sample = 0.02;
+        s
+    }
+
+    /// A sample's simulation: the scene's vehicle and plan from `init`, the
+    /// divergence guard ([`DIVERGED_OMEGA`], [`DIVERGED_X`], and for dopri
+    /// [`MAX_SUBSTEPS`]: a call that needs more is a solution blowing up
+    /// between two checks of the state limits).
+    pub fn builder(&self, init: &Initial) -> Result<SimulationBuilder<'static, B, 6>, SimError> {
+        let sc = self.scene(init);
+        let vehicle = crate::build_vehicle::<B>(&sc)?;
+        let plan = crate::plan::<B>(&sc, vehicle.as_ref());
+        let kind: integrators::IntegratorKind = self.integrator.parse()?;
+        let stepper =
+            integrators::Stepper::<B, 6>::new(kind, integrators::StepperConfig { tol: self.tol });
+        let mut body = RigidBodyState::<B>::at_rest();
+        body.r = lie::ops::from_elems::<B>(crate::reference::rotation_f64(sc.initial.rotation));
+        body.omega = B::vec3(init.omega[0], init.omega[1], init.omega[2]);
+        body.x = B::vec3(init.x[0], init.x[1], init.x[2]);
+        body.v = B::vec3(init.v[0], init.v[1], init.v[2]);
+        let guard = DivergenceGuard {
+            omega: Some(DIVERGED_OMEGA),
+            position_error: Some(DIVERGED_X),
+            moment: None,
+            substeps: (kind == integrators::IntegratorKind::Dopri).then_some(MAX_SUBSTEPS),
+        };
+        let mut b = Simulation::<B, 6>::builder(vehicle)
+            .initial(body)
+            .dt(self.dt)
+            .duration(self.deadline)
+            .record_every(sc.record.sample)
+            .guard(guard);
+        for seg in plan {
+            b = b.segment(seg);
+        }
+        Ok(b.integrator(stepper))
+    }
+
+    /// The settle metric: `max(Ψ/psi_tol, ‖x‖/x_tol)` (Ψ alone in the
+    /// attitude experiment).
+    pub fn metric(&self, st: &RigidBodyState<B>, out: &ModeOutput<B>) -> f64 {
+        let m = out.psi.to_f64_lossless() / self.psi_tol;
+        if self.is_position() {
+            m.max(norm(B::vec3_to_array(st.x)) / self.x_tol)
+        } else {
+            m
+        }
+    }
+
+    /// The experiment as a [`Study`].
+    #[allow(clippy::type_complexity)]
+    pub fn study(
+        &self,
+    ) -> Study<
+        Initial,
+        impl Fn(&mut Stream) -> Initial + Sync + '_,
+        impl Fn(&Initial) -> Result<SimulationBuilder<'static, B, 6>, SimError> + Sync + '_,
+        impl Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync + '_,
+    > {
+        Study::new(
+            self.seed,
+            self.hold,
+            |rng| self.draw(rng),
+            |init| self.builder(init),
+            |_, st, out| self.metric(st, out),
+        )
+    }
+
+    /// Runs the samples `indices` on `threads` threads; rows in index order.
+    pub fn run(
+        &self,
+        indices: &[u64],
+        threads: Option<usize>,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+    ) -> Result<Vec<Outcome>, SimError> {
+        let trials = self.study().run(indices, threads, progress)?;
+        Ok(trials.into_iter().map(Outcome::from).collect())
+    }
+
+    /// Runs sample `index`.
+    pub fn run_sample(&self, index: u64) -> Result<Outcome, SimError> {
+        self.study().sample(index).map(Outcome::from)
+    }
+}
+
+/// One sample's result (a row of `samples.csv`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    /// Sample index.
+    pub index: u64,
+    /// Initial rotation angle from R_d = I, rad.
+    pub angle: f64,
+    /// Its axis.
+    pub axis: [f64; 3],
+    /// |Ω(0)|, rad/s.
+    pub omega0: f64,
+    /// ‖e_x(0)‖, m.
+    pub ex0: f64,
+    /// Whether it converged.
+    pub converged: bool,
+    /// Time to converge, s (NaN when not converged).
+    pub t_converge: f64,
+    /// Ψ at the end (NaN when the run was cut off inside a step).
+    pub final_psi: f64,
+    /// ‖e_x‖ at the end (NaN likewise).
+    pub final_ex: f64,
+    /// Largest commanded thrust over the 0.02 s samples, N.
+    pub max_thrust: f64,
+    /// Largest rotor thrust over them, N.
+    pub max_rotor: f64,
+    /// Integrator steps (0 when the run was cut off inside a step: a
+    /// failed step or the substep cap).
+    pub steps: u64,
+    /// How it ended.
+    pub status: Status,
+}
+
+impl From<super::Trial<Initial>> for Outcome {
+    fn from(t: super::Trial<Initial>) -> Self {
+        let init = &t.draw;
+        // A run cut off inside an integrator call (the substep cap) or by a
+        // step that failed has no final figures worth keeping.
+        let cut =
+            t.status == Status::Error || matches!(t.divergence(), Some(Divergence::Substeps(_)));
+        let (final_psi, final_ex, steps) = match &t.run {
+            Ok(o) if !cut => (o.last.psi, o.last.ex, o.steps),
+            _ => (f64::NAN, f64::NAN, 0),
+        };
+        Outcome {
+            index: t.index,
+            angle: init.angle(),
+            axis: init.axis(),
+            omega0: norm(init.omega),
+            ex0: norm(init.x),
+            converged: t.status == Status::Converged,
+            t_converge: t.t_settled.unwrap_or(f64::NAN),
+            final_psi,
+            final_ex,
+            max_thrust: t.max_thrust,
+            max_rotor: t.max_rotor,
+            steps,
+            status: t.status,
+        }
+    }
+}
+
+/// The header of `samples.csv`.
+pub const SAMPLES_HEADER: &str = "index,angle,axis1,axis2,axis3,omega0,ex0,converged,t_converge,final_psi,final_ex,max_thrust,max_rotor,steps,status";
+
+impl Outcome {
+    /// The row, without its newline.
+    pub fn csv(&self) -> String {
+        format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            self.index,
+            self.angle,
+            self.axis[0],
+            self.axis[1],
+            self.axis[2],
+            self.omega0,
+            self.ex0,
+            u8::from(self.converged),
+            self.t_converge,
+            self.final_psi,
+            self.final_ex,
+            self.max_thrust,
+            self.max_rotor,
+            self.steps,
+            self.status.name()
+        )
+    }
+
+    /// Parses a row.
+    pub fn parse(line: &str) -> Result<Self, String> {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 15 {
+            return Err(format!("{} fields, expected 15", f.len()));
+        }
+        let n = |k: usize| -> Result<f64, String> {
+            f[k].parse::<f64>()
+                .map_err(|e| format!("field {k} `{}`: {e}", f[k]))
+        };
+        let u = |k: usize| -> Result<u64, String> {
+            f[k].parse::<u64>()
+                .map_err(|e| format!("field {k} `{}`: {e}", f[k]))
+        };
+        Ok(Self {
+            index: u(0)?,
+            angle: n(1)?,
+            axis: [n(2)?, n(3)?, n(4)?],
+            omega0: n(5)?,
+            ex0: n(6)?,
+            converged: u(7)? == 1,
+            t_converge: n(8)?,
+            final_psi: n(9)?,
+            final_ex: n(10)?,
+            max_thrust: n(11)?,
+            max_rotor: n(12)?,
+            steps: u(13)?,
+            status: Status::parse(f[14]).ok_or_else(|| format!("status `{}`", f[14]))?,
+        })
+    }
+}
+
+/// `samples.csv` of `rows`: the header and one line each.
+pub fn write_samples(rows: &[Outcome]) -> String {
+    let mut text = String::with_capacity(rows.len() * 200);
+    text.push_str(SAMPLES_HEADER);
+    text.push('\n');
+    for r in rows {
+        text.push_str(&r.csv());
+        text.push('\n');
+    }
+    text
+}
+
+/// The rows of a `samples.csv`; the error names the line.
+pub fn parse_samples(text: &str) -> Result<Vec<Outcome>, String> {
+    let mut lines = text.lines();
+    if lines.next() != Some(SAMPLES_HEADER) {
+        return Err("not a samples.csv (header)".into());
+    }
+    lines
+        .enumerate()
+        .map(|(k, l)| Outcome::parse(l).map_err(|e| format!("line {}: {e}", k + 2)))
+        .collect()
+}
