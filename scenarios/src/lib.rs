@@ -61,7 +61,7 @@ mod sim;
 pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, Divergence, DivergenceGuard, RunOptions, RunOutput, Sample, Segment,
+    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, Sample, Segment,
     SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord, Termination,
     Until,
 };

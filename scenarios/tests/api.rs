@@ -242,3 +242,33 @@ fn a_stop_condition_ends_the_run_at_the_located_instant() {
     assert!((-last.x[2] - 1.5).abs() < 1e-9, "{}", last.x[2]);
     assert!(out.samples.iter().all(|s| s.t <= tc));
 }
+
+/// The health check tells rounding from a fault: Euler at 2 ms on the
+/// flip (R off the group by 0.23) is off the group; a run whose Ψ is
+/// −3e-11 with R off the group by 8e-11 (one hour of f64 hover) is
+/// healthy; beyond that slack Ψ outside [0, 2] is reported; f32 has its
+/// own bound.
+#[test]
+fn health_tells_faults_from_rounding() {
+    use scenarios::Health;
+    let mut s = scenarios::builtin::paper_flip();
+    s.integrator.kind = "euler".into();
+    s.integrator.dt = 0.002;
+    let out = scenarios::run(&s, Default::default()).unwrap();
+    match out.health()[..] {
+        [Health::OffGroup { error, bound }] => assert!(error > 0.1 && bound == 1e-6, "{error}"),
+        ref h => panic!("{h:?}"),
+    }
+    let mut fine = scenarios::run(&scenarios::builtin::paper_flip(), Default::default()).unwrap();
+    assert!(fine.health().is_empty());
+    fine.psi_range.0 = -2.9e-11;
+    fine.max_orthogonality_error = 8e-11;
+    assert!(fine.health().is_empty());
+    fine.psi_range.0 = -1e-9;
+    assert!(matches!(fine.health()[..], [Health::PsiOutOfRange { .. }]));
+    let mut s32 = scenarios::builtin::paper_flip();
+    s32.scalar = scenarios::scene::Scalar::F32;
+    let o32 = scenarios::run(&s32, Default::default()).unwrap();
+    assert_eq!(o32.epsilon, f64::from(f32::EPSILON));
+    assert!(o32.health().is_empty(), "{:?}", o32.health());
+}

@@ -270,7 +270,7 @@ fn long_horizon(r: &mut Report, quick: bool, horizon: Option<f64>) -> Result<(),
                 Scalar::F64 => 1e-6,
                 Scalar::F32 => 1e-3,
             };
-            let health = crate::run::health_warnings(&s, &out);
+            let health = crate::run::health_warnings(&out);
             if kind == "euler" {
                 // Explicit Euler on the matrix leaves SO(3) at O(h) per unit
                 // time: what matters is that the run says so.
@@ -536,7 +536,7 @@ fn step_limit(r: &mut Report, _quick: bool, _: &Path) -> Result<(), String> {
             let outcome = run(&s);
             let (err, warnings, failure) = match &outcome {
                 Ok(o) => {
-                    let health = crate::run::health_warnings(&s, o);
+                    let health = crate::run::health_warnings(o);
                     let e = flip_error(o, &reference);
                     (e, health, None)
                 }
@@ -645,7 +645,7 @@ fn high_rate(r: &mut Report, quick: bool, _: &Path) -> Result<(), String> {
             let dr = max_abs_diff(&l.r, &re);
             let dw = norm([l.omega[0] - we[0], l.omega[1] - we[1], l.omega[2] - we[2]]) / norm(we);
             if kind == "euler" {
-                let health = crate::run::health_warnings(&s, &out);
+                let health = crate::run::health_warnings(&out);
                 r.holds(
                     "high-rate",
                     format!(

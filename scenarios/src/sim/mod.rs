@@ -126,6 +126,9 @@ pub struct RunOutput {
     /// Smallest and largest Ψ over the same states (in [0, 2] for a
     /// rotation).
     pub psi_range: (f64, f64),
+    /// The machine ε of the simulation's scalar (what the health bounds
+    /// scale with).
+    pub epsilon: f64,
     /// How the run ended ([`Simulation::output`] of a run that can go on
     /// says [`Termination::Interrupted`] at its time).
     pub termination: Termination,
@@ -133,7 +136,67 @@ pub struct RunOutput {
     pub last: Sample,
 }
 
+/// A sign that a run's numbers cannot be trusted ([`RunOutput::health`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Health {
+    /// ‖RᵀR − I‖_F passed `bound` (1e-6 in f64, 1e-3 in f32: far above
+    /// the rounding a run accumulates, far below what changes a result
+    /// visibly): R has left SO(3).
+    OffGroup {
+        /// The largest ‖RᵀR − I‖_F (NaN when it became NaN).
+        error: f64,
+        /// The bound for the scalar.
+        bound: f64,
+    },
+    /// Ψ left [0, 2] by more than rounding and the distance from SO(3)
+    /// explain: R is not a rotation any more.
+    PsiOutOfRange {
+        /// Smallest and largest Ψ.
+        range: (f64, f64),
+    },
+}
+
+impl std::fmt::Display for Health {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Health::OffGroup { error, bound } => write!(
+                f,
+                "‖RᵀR − I‖ reached {error:.2e} (bound {bound:.0e} for this scalar): R has left SO(3)"
+            ),
+            Health::PsiOutOfRange { range } => write!(
+                f,
+                "Ψ left [0, 2] (range [{:.3e}, {:.3e}]): not a rotation any more",
+                range.0, range.1
+            ),
+        }
+    }
+}
+
 impl RunOutput {
+    /// What says the run's numbers cannot be trusted, from its extrema
+    /// (over every step end and located event, or the start, the events
+    /// and the end without [`RunOptions::extrema`]); empty for a healthy
+    /// run.
+    pub fn health(&self) -> Vec<Health> {
+        let bound = if self.epsilon < 1e-10 { 1e-6 } else { 1e-3 };
+        let mut w = Vec::new();
+        let e = self.max_orthogonality_error;
+        if e.is_nan() || e > bound {
+            w.push(Health::OffGroup { error: e, bound });
+        }
+        // Ψ is computed as ¼‖R − R_d‖², never negative; an R off SO(3) by
+        // e = ‖RᵀR − I‖ moves it by up to ~e, and rounding by ~10 ε. Only
+        // a departure from [0, 2] beyond that says R is not a rotation.
+        let slack = 10.0 * self.epsilon + e;
+        let (lo, hi) = self.psi_range;
+        if lo.is_nan() || hi.is_nan() || lo < -slack || hi > 2.0 + slack {
+            w.push(Health::PsiOutOfRange {
+                range: self.psi_range,
+            });
+        }
+        w
+    }
+
     /// The located time when the stop condition ended the run.
     pub fn stopped_at(&self) -> Option<f64> {
         match self.termination {

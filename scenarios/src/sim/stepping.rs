@@ -255,6 +255,7 @@ pub(crate) fn prepare<B: Backend, const N: usize>(
         ..ClosedLoop::new(vehicle, plan, s.m, s.nv)?
     };
     let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
+    out.epsilon = <S<B> as lie::num_traits::Float>::epsilon().to_f64_lossless();
     out.warnings = plan_warnings(sys.plan, ctrl, s.dt, s.t_end);
     let grid = Grid::new(sys.plan, ctrl, s.t_end);
     Ok(Running {
@@ -592,6 +593,7 @@ fn empty_output(mode_names: Vec<&'static str>) -> RunOutput {
         wall: 0.0,
         warnings: Vec::new(),
         termination: Termination::Interrupted { t: 0.0 },
+        epsilon: f64::EPSILON,
         max_orthogonality_error: 0.0,
         psi_range: (f64::INFINITY, f64::NEG_INFINITY),
         last: empty_sample(),
