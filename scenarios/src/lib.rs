@@ -61,9 +61,9 @@ mod sim;
 pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, Sample, Segment,
-    SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord, Termination,
-    Until,
+    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, Sample,
+    Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
+    Termination, Until,
 };
 
 use lie::Backend;

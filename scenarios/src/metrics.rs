@@ -1,6 +1,7 @@
-//! Metrics over recorded samples.
+//! Metrics over recorded samples, and the work-precision sweep (run time
+//! and cost against error, every stepper over a range of step sizes).
 
-use crate::Sample;
+use crate::{RunOptions, RunOutput, Sample, Scene, SimError, run};
 
 /// The sample at time `t` (recorded exactly on the grid), if any.
 pub fn at(samples: &[Sample], t: f64) -> Option<&Sample> {
@@ -44,4 +45,113 @@ pub fn max_ex_after(samples: &[Sample], from: f64) -> f64 {
         .filter(|s| s.t >= from)
         .map(|s| s.ex)
         .fold(0.0, f64::max)
+}
+
+/// One point of a work-precision sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkPoint {
+    /// Stepper name.
+    pub kind: String,
+    /// Step size, or tolerance for dopri.
+    pub param: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Load evaluations.
+    pub evals: u64,
+    /// Best-of-three wall time, s (the machine may be shared: the best of
+    /// three is the least disturbed).
+    pub wall: f64,
+    /// Largest |Δx|, |ΔR| over the 0.1 s samples against dopri at 1e-12
+    /// in f64.
+    pub error: f64,
+}
+
+/// A work-precision sweep: the points, and the settings that failed
+/// (a step size too coarse for a stepper, say) with why.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The points that ran, grid order.
+    pub points: Vec<WorkPoint>,
+    /// `(stepper, dt or tol, error)` of those that did not.
+    pub failures: Vec<(String, f64, SimError)>,
+}
+
+/// The step sizes (dopri: tolerances) of [`work_precision`], per stepper.
+pub const GRID: [(&str, &[f64]); 6] = [
+    ("euler", &[1e-3, 3e-4, 1e-4, 3e-5]),
+    ("lgvi", &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]),
+    ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+    ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+    ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
+    ("dopri", &[1e-4, 1e-5, 1e-6, 3e-7, 1e-8, 1e-10]),
+];
+
+/// The run of `s` with the best wall time of three.
+fn timed(s: &Scene) -> Result<(RunOutput, f64), SimError> {
+    let mut best = f64::INFINITY;
+    let mut last = None;
+    for _ in 0..3 {
+        let out = run(s, RunOptions::default())?;
+        best = best.min(out.wall);
+        last = Some(out);
+    }
+    Ok((last.expect("three runs"), best))
+}
+
+/// Every stepper over its [`GRID`] on `base` (with its scalar and
+/// backend), the error measured against Dormand–Prince at tol 1e-12 in f64
+/// (independent of the stepper under test except for dopri itself) over a
+/// 0.1 s sample grid; `quick` takes every other grid point. `tick` is
+/// called after each point. The reference run's error is the sweep's.
+pub fn work_precision(
+    base: &Scene,
+    quick: bool,
+    tick: &mut dyn FnMut(&WorkPoint),
+) -> Result<Sweep, SimError> {
+    let mut base = base.clone();
+    base.record.sample = 0.1;
+    let mut reference = base.clone();
+    reference.scalar = crate::scene::Scalar::F64;
+    reference.integrator.kind = "dopri".into();
+    reference.integrator.tol = 1e-12;
+    reference.integrator.dt = 0.1;
+    let reference = run(&reference, RunOptions::default())?;
+    let mut sweep = Sweep {
+        points: Vec::new(),
+        failures: Vec::new(),
+    };
+    for (kind, params) in GRID {
+        for (i, &p) in params.iter().enumerate() {
+            if quick && i % 2 == 1 {
+                continue;
+            }
+            let mut s = base.clone();
+            s.integrator.kind = kind.to_string();
+            if kind == "dopri" {
+                s.integrator.tol = p;
+                s.integrator.dt = 0.1;
+            } else {
+                s.integrator.dt = p;
+            }
+            let (out, wall) = match timed(&s) {
+                Ok(x) => x,
+                Err(e) => {
+                    sweep.failures.push((kind.to_string(), p, e));
+                    continue;
+                }
+            };
+            let (dx, _, dr, _) = max_difference(&out.samples, &reference.samples);
+            let pt = WorkPoint {
+                kind: kind.to_string(),
+                param: p,
+                steps: out.steps,
+                evals: out.evaluations,
+                wall,
+                error: dx.max(dr),
+            };
+            tick(&pt);
+            sweep.points.push(pt);
+        }
+    }
+    Ok(sweep)
 }

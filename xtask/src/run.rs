@@ -689,7 +689,10 @@ mod tests {
         s.integrator.kind = "euler".into();
         s.integrator.dt = 0.002;
         let out = scenarios::run(&s, Default::default()).unwrap();
-        assert!(matches!(out.health()[..], [scenarios::Health::OffGroup { .. }]));
+        assert!(matches!(
+            out.health()[..],
+            [scenarios::Health::OffGroup { .. }]
+        ));
         let w = health_warnings(&out);
         assert!(w[0].ends_with("(rk4-projected, rkmk4, lgvi)"), "{w:?}");
     }

@@ -9,8 +9,7 @@
 use std::path::PathBuf;
 
 use plotters::prelude::*;
-use scenarios::metrics::max_difference;
-use scenarios::{RunOptions, Scene, run};
+use scenarios::Scene;
 
 /// Options of `cargo xtask sweep`.
 #[derive(clap::Args, Debug)]
@@ -27,32 +26,7 @@ pub struct SweepArgs {
 }
 
 /// One point of a work-precision sweep.
-pub struct Point {
-    /// Stepper name.
-    pub kind: String,
-    /// Step size, or tolerance for dopri.
-    pub param: f64,
-    /// Steps taken.
-    pub steps: u64,
-    /// Load evaluations.
-    pub evals: u64,
-    /// Best-of-three wall time, s.
-    pub wall: f64,
-    /// Largest |Δx|, |ΔR| over the 0.1 s samples against dopri 1e-12.
-    pub error: f64,
-}
-
-fn timed(s: &Scene) -> Result<(scenarios::RunOutput, f64), String> {
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..3 {
-        let out =
-            run(s, RunOptions::default()).map_err(|e| format!("{}: {e}", s.integrator.kind))?;
-        best = best.min(out.wall);
-        last = Some(out);
-    }
-    Ok((last.expect("three runs"), best))
-}
+pub use scenarios::metrics::WorkPoint as Point;
 
 pub fn sweep(a: SweepArgs) -> Result<(), String> {
     let mut base = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
@@ -101,65 +75,18 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// Every stepper over its grid on `base` (with its scalar and backend);
-/// `quick` takes every other grid point. `tick` is called after each
-/// point.
+/// Every stepper over its grid on `base` ([`scenarios::metrics::work_precision`]);
+/// the settings that failed are printed.
 pub fn points(
     base: &Scene,
     quick: bool,
     tick: &mut dyn FnMut(&Point),
 ) -> Result<Vec<Point>, String> {
-    let mut base = base.clone();
-    base.record.sample = 0.1;
-    let mut reference = base.clone();
-    reference.scalar = scenarios::scene::Scalar::F64;
-    reference.integrator.kind = "dopri".into();
-    reference.integrator.tol = 1e-12;
-    reference.integrator.dt = 0.1;
-    let reference = run(&reference, RunOptions::default()).map_err(|e| e.to_string())?;
-    let mut pts = Vec::new();
-    let grid: &[(&str, &[f64])] = &[
-        ("euler", &[1e-3, 3e-4, 1e-4, 3e-5]),
-        ("lgvi", &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4]),
-        ("rk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("rk4-projected", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("rkmk4", &[8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]),
-        ("dopri", &[1e-4, 1e-5, 1e-6, 3e-7, 1e-8, 1e-10]),
-    ];
-    for (kind, params) in grid {
-        for (i, &p) in params.iter().enumerate() {
-            if quick && i % 2 == 1 {
-                continue;
-            }
-            let mut s = base.clone();
-            s.integrator.kind = kind.to_string();
-            if *kind == "dopri" {
-                s.integrator.tol = p;
-                s.integrator.dt = 0.1;
-            } else {
-                s.integrator.dt = p;
-            }
-            let (out, wall) = match timed(&s) {
-                Ok(x) => x,
-                Err(e) => {
-                    println!("  {kind} {p:e}: failed: {e}");
-                    continue;
-                }
-            };
-            let (dx, _, dr, _) = max_difference(&out.samples, &reference.samples);
-            let pt = Point {
-                kind: kind.to_string(),
-                param: p,
-                steps: out.steps,
-                evals: out.evaluations,
-                wall,
-                error: dx.max(dr),
-            };
-            tick(&pt);
-            pts.push(pt);
-        }
+    let sweep = scenarios::metrics::work_precision(base, quick, tick).map_err(|e| e.to_string())?;
+    for (kind, p, e) in &sweep.failures {
+        println!("  {kind} {p:e}: failed: {e}");
     }
-    Ok(pts)
+    Ok(sweep.points)
 }
 
 /// Log–log error against wall time, a line per stepper.
