@@ -51,6 +51,7 @@
 
 pub mod builtin;
 mod from_scene;
+pub mod gains;
 pub mod metrics;
 pub mod montecarlo;
 pub mod output;
