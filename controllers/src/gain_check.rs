@@ -53,7 +53,7 @@ pub struct GainBounds {
 
 /// One evaluated condition.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Condition {
+pub struct GainCondition {
     /// The paper's equation label.
     pub label: &'static str,
     /// The inequality, in words.
@@ -73,7 +73,7 @@ pub struct Condition {
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct GainReport {
     /// (eqn:c2), (eqn:kisigma), (eqn:c1b), (eqn:kRkWb), worst axis each.
-    pub conditions: [Condition; 4],
+    pub conditions: [GainCondition; 4],
     /// `α = √(ψ1(2 − ψ1))`.
     pub alpha: f64,
     /// Slowest time constant (s) of the linearised attitude loop
@@ -237,7 +237,7 @@ pub fn check_gains<B: Backend>(
     let (c1, c2, sigma) = (f(pos.c1), f(att.c2), f(pos.sigma));
     let alpha = (bounds.psi1 * (2.0 - bounds.psi1)).sqrt();
 
-    let worst = |conds: [Condition; 3]| {
+    let worst = |conds: [GainCondition; 3]| {
         conds
             .into_iter()
             .fold(conds[0], |w, c| if c.margin < w.margin { c } else { w })
@@ -245,7 +245,7 @@ pub fn check_gains<B: Backend>(
     let c2_cond = worst([0, 1, 2].map(|i| {
         let bound = ((k_r[i] * lam_m).sqrt() / lam_big)
             .min(4.0 * k_w[i] / (8.0 * k_r[i] * lam_big + (k_w[i] + bounds.b2).powi(2)));
-        Condition {
+        GainCondition {
             label: "(eqn:c2)",
             statement: "c2 < min{√(k_R λm)/λM, 4k_Ω/(…)}",
             value: c2,
@@ -256,7 +256,7 @@ pub fn check_gains<B: Backend>(
     }));
     let kis_cond = worst([0, 1, 2].map(|i| {
         let v = k_ip[i] * sigma;
-        Condition {
+        GainCondition {
             label: "(eqn:kisigma)",
             statement: "k_i σ > δ_x",
             value: v,
@@ -269,7 +269,7 @@ pub fn check_gains<B: Backend>(
         let bound = (4.0 * k_x[i] * k_v[i] * (1.0 - alpha).powi(2)
             / (k_v[i].powi(2) * (1.0 + alpha).powi(2) + 4.0 * m * k_x[i] * (1.0 - alpha)))
             .min((k_x[i] / m).sqrt());
-        Condition {
+        GainCondition {
             label: "(eqn:c1b)",
             statement: "c1 < min{4k_xk_v(1−α)²/(…), √(k_x/m)}",
             value: c1,
@@ -299,7 +299,7 @@ pub fn check_gains<B: Backend>(
         } else {
             f64::INFINITY
         };
-        Condition {
+        GainCondition {
             label: "(eqn:kRkWb)",
             statement: "λm(W2) > ‖W12‖²/(4 λm(W1))",
             value,

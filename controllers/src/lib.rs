@@ -10,9 +10,9 @@
 //! returns, besides the force and moment, the time derivative of its
 //! integral states, so a simulation can integrate them together with the
 //! vehicle (continuous control) and a flight computer can advance them by
-//! its sample period (sampled control). The [`Scheduler`] strings the two
-//! modes into a plan switched by time or by `Ψ`. It does not own dynamics
-//! or integration.
+//! its sample period (sampled control). The [`Scheduler`] strings modes
+//! into a plan of [`Phase`]s switched by time or by `Ψ`, without a heap,
+//! for a flight computer. It does not own dynamics or integration.
 //!
 //! The same two laws are also [`Mode`] implementations ([`AttitudeMode`],
 //! [`PositionMode`]): the trait a simulation schedules, which a user's own
@@ -67,15 +67,12 @@ mod position_pid;
 mod vec;
 
 pub use attitude_pid::{AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control};
-pub use gain_check::{Condition, GainBounds, GainReport, check_gains};
+pub use gain_check::{GainBounds, GainCondition, GainReport, check_gains};
 pub use mode::{
     AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition, Mode,
     ModeOutput, PositionMode, PositionSource,
 };
-pub use mode_scheduler::{
-    ControlCommand, FlightMode, IntegralStates, Scheduler, Segment, Switch, SwitchWhen,
-    ThrustCommand,
-};
+pub use mode_scheduler::{Leave, Phase, Scheduler, Switch};
 pub use position_pid::{
     AccelerationModel, Degeneracy, PositionGains, PositionOutput, PositionReference, SatBranch,
     VehicleState, position_control, thrust_pd_projection,

@@ -513,5 +513,6 @@ fn non_finite_inputs_are_errors_naming_the_field() {
     };
     let err =
         attitude_control(&p, &ag, R::identity(), V::zeros(), V::zeros(), &reference).unwrap_err();
-    assert!(matches!(err, ControlError::NonFinite { .. }));
+    // The reference's fault, told apart from the state's by the variant.
+    assert!(matches!(err, ControlError::NonFiniteReference { .. }));
 }

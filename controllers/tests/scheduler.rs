@@ -1,5 +1,5 @@
-//! The flight-mode scheduler on the paper's flip plan: attitude mode until
-//! 0.4 s, then position mode; and a Ψ-triggered switch.
+//! The heap-free flight-mode scheduler on the paper's flip plan (attitude
+//! mode until 0.4 s, then position mode) and on a Ψ-triggered switch.
 //!
 //! One pair (nalgebra-f64): the scheduler is switching logic (times,
 //! thresholds, what `enter` zeroes), which no backend arithmetic touches.
@@ -22,64 +22,78 @@ fn flip(t: f64) -> AttitudeReference<B, R> {
         omega_d_dot: V::zeros(),
     }
 }
-fn hold(_t: f64) -> PositionReference<B> {
-    PositionReference::hold(V::zeros(), V::y())
+
+fn hold() -> HoldPosition<B> {
+    HoldPosition(PositionReference::hold(V::zeros(), V::y()))
+}
+
+fn position_mode() -> PositionMode<B, HoldPosition<B>> {
+    PositionMode::new(
+        RigidBodyParams::paper(),
+        PositionGains::paper(),
+        AttitudeGains::paper(),
+        AccelerationModel::Nominal,
+        hold(),
+    )
+}
+
+fn state(r: R) -> VehicleState<B, R> {
+    VehicleState {
+        x: V::new(0.1, 0.0, 0.0),
+        v: V::zeros(),
+        r,
+        omega: V::zeros(),
+    }
 }
 
 #[test]
 fn time_switch_carries_e_att_and_resets_e_pos() {
-    let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
-        PositionGains::<B>::paper(),
-        AttitudeGains::<B>::paper(),
-    );
-    let plan = [
-        Segment {
-            mode: FlightMode::Attitude {
-                reference: &flip,
-                thrust: ThrustCommand::PdProjection(&hold),
-            },
-            until: SwitchWhen::Time(0.4),
+    let p = RigidBodyParams::<B>::paper();
+    let mut att = AttitudeMode::new(
+        p,
+        AttitudeGains::paper(),
+        flip,
+        AttitudeThrust::PdProjection {
+            gains: PositionGains::paper(),
+            reference: hold(),
         },
-        Segment {
-            mode: FlightMode::Position { reference: &hold },
-            until: SwitchWhen::Never,
+    );
+    let mut pos = position_mode();
+    let mut plan = [
+        Phase {
+            mode: &mut att,
+            until: Leave::At(0.4),
+        },
+        Phase {
+            mode: &mut pos,
+            until: Leave::Never,
         },
     ];
-    let mut sched = Scheduler::new(&plan);
-    let state = VehicleState {
-        x: V::new(0.1, 0.0, 0.0),
-        v: V::zeros(),
-        r: R::identity(),
-        omega: V::zeros(),
-    };
-    // Integrals as if they had been running: e_pos holds junk that must be
-    // cleared at the first entry into position mode.
-    let mut ints = IntegralStates {
-        e_att: V::new(0.3, -0.1, 0.2),
-        e_pos: V::new(9.0, 9.0, 9.0),
-    };
+    let mut sched = Scheduler::new(&mut plan).unwrap();
+    assert_eq!(sched.integral_count(), 6);
+    let st = state(R::identity());
+    // Integrals as if they had been running: e_i holds junk that the
+    // position mode must clear when it is entered.
+    let mut ints = [0.3, -0.1, 0.2, 9.0, 9.0, 9.0];
+    let mut rates = [1.0; 6];
     let mut switches = Vec::new();
     for k in 0..=100 {
         let t = k as f64 * 0.01; // 0.40 lands exactly at k = 40
-        if let Some(sw) = sched.advance(t, &mut ints) {
+        if let Some(sw) = sched.advance(t, &st, &mut ints) {
             switches.push(sw);
         }
-        let cmd = sched
-            .command(&p, &pg, &ag, t, &state, &ints, AccelerationModel::Nominal)
-            .unwrap();
-        assert_eq!(cmd.position_mode, t >= 0.4, "t = {t}");
-        if !cmd.position_mode {
+        let cmd = sched.command(t, &st, &ints, &mut rates).unwrap();
+        assert_eq!(sched.active() == 1, t >= 0.4, "t = {t}");
+        if t < 0.4 {
             assert_eq!(
-                cmd.e_pos_rate,
-                V::zeros(),
+                rates[3..],
+                [0.0; 3],
                 "position integral idle in attitude mode"
             );
             // PD-projection thrust: (k_x x + m g e3)·R e3 with R = I.
             assert!((cmd.thrust - 0.755 * 9.81).abs() < 1e-12);
         }
     }
-    println!("switches: {switches:?}");
     assert_eq!(
         switches,
         vec![Switch {
@@ -88,132 +102,65 @@ fn time_switch_carries_e_att_and_resets_e_pos() {
             t: 0.4
         }]
     );
-    assert_eq!(ints.e_pos, V::zeros());
-    assert_eq!(
-        ints.e_att,
-        V::new(0.3, -0.1, 0.2),
-        "e_I carried across the switch"
-    );
+    assert_eq!(ints[3..], [0.0; 3]);
+    assert_eq!(ints[..3], [0.3, -0.1, 0.2], "e_I carried across the switch");
 }
 
 #[test]
 fn psi_switch_waits_for_the_attitude_error() {
-    let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
-        PositionGains::<B>::paper(),
-        AttitudeGains::<B>::paper(),
+    let p = RigidBodyParams::<B>::paper();
+    let mut att = AttitudeMode::<B, _, HoldPosition<B>>::new(
+        p,
+        AttitudeGains::paper(),
+        HoldAttitude::new(R::identity()),
+        AttitudeThrust::Constant(0.755 * 9.81),
     );
-    let level = |_t: f64| AttitudeReference::<B, R> {
-        rd: R::identity(),
-        omega_d: V::zeros(),
-        omega_d_dot: V::zeros(),
-    };
-    let plan = [
-        Segment {
-            mode: FlightMode::Attitude {
-                reference: &level,
-                thrust: ThrustCommand::Constant(0.755 * 9.81),
-            },
-            until: SwitchWhen::PsiBelow(0.01),
+    let mut pos = position_mode();
+    let mut plan = [
+        Phase {
+            mode: &mut att,
+            until: Leave::PsiBelow(0.01),
         },
-        Segment {
-            mode: FlightMode::Position { reference: &hold },
-            until: SwitchWhen::Never,
+        Phase {
+            mode: &mut pos,
+            until: Leave::Never,
         },
     ];
-    let mut sched = Scheduler::new(&plan);
-    let mut ints = IntegralStates::zero();
-    let tilted = VehicleState {
-        x: V::zeros(),
-        v: V::zeros(),
-        r: R::exp(V::x() * 1.0),
-        omega: V::zeros(),
-    };
-    let level_state = VehicleState {
-        r: R::identity(),
-        ..tilted
-    };
-    assert!(sched.advance(0.0, &mut ints).is_none(), "no Ψ known yet");
-    let c = sched
-        .command(
-            &p,
-            &pg,
-            &ag,
-            0.0,
-            &tilted,
-            &ints,
-            AccelerationModel::Nominal,
-        )
-        .unwrap();
+    let mut sched = Scheduler::new(&mut plan).unwrap();
+    let (tilted, level) = (state(R::exp(V::x() * 1.0)), state(R::identity()));
+    let (mut ints, mut rates) = ([0.0; 6], [0.0; 6]);
+    assert!(
+        sched.advance(0.0, &tilted, &mut ints).is_none(),
+        "no Ψ known yet"
+    );
+    let c = sched.command(0.0, &tilted, &ints, &mut rates).unwrap();
     assert!((c.psi - (1.0 - 1f64.cos())).abs() < 1e-12 && (c.thrust - 0.755 * 9.81).abs() < 1e-15);
     assert!(
-        sched.advance(0.1, &mut ints).is_none(),
+        sched.advance(0.1, &tilted, &mut ints).is_none(),
         "Ψ = 0.46 is not below 0.01"
     );
-    sched
-        .command(
-            &p,
-            &pg,
-            &ag,
-            0.1,
-            &level_state,
-            &ints,
-            AccelerationModel::Nominal,
-        )
-        .unwrap();
+    sched.command(0.1, &level, &ints, &mut rates).unwrap();
     assert_eq!(
-        sched.advance(0.2, &mut ints),
+        sched.advance(0.2, &level, &mut ints),
         Some(Switch {
             from: 0,
             to: 1,
             t: 0.2
         })
     );
+    sched.command(0.2, &level, &ints, &mut rates).unwrap();
+    assert_eq!(sched.active(), 1);
     assert!(
-        sched
-            .command(
-                &p,
-                &pg,
-                &ag,
-                0.2,
-                &level_state,
-                &ints,
-                AccelerationModel::Nominal
-            )
-            .unwrap()
-            .position_mode
-    );
-    assert!(
-        sched.advance(5.0, &mut ints).is_none(),
-        "the last segment never ends"
+        sched.advance(5.0, &level, &mut ints).is_none(),
+        "the last phase never ends"
     );
 }
 
 #[test]
 fn empty_plan_is_an_error() {
-    let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
-        PositionGains::<B>::paper(),
-        AttitudeGains::<B>::paper(),
+    let mut plan: [Phase<B>; 0] = [];
+    assert_eq!(
+        Scheduler::new(&mut plan).err(),
+        Some(ControlError::EmptyPlan)
     );
-    let plan: [Segment<B, R>; 0] = [];
-    let mut sched = Scheduler::new(&plan);
-    let st = VehicleState {
-        x: V::zeros(),
-        v: V::zeros(),
-        r: R::identity(),
-        omega: V::zeros(),
-    };
-    let err = sched
-        .command(
-            &p,
-            &pg,
-            &ag,
-            0.0,
-            &st,
-            &IntegralStates::zero(),
-            AccelerationModel::Nominal,
-        )
-        .unwrap_err();
-    assert_eq!(err, ControlError::EmptyPlan);
 }

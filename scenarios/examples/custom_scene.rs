@@ -7,7 +7,7 @@
 
 use scenarios::output::write_csv;
 use scenarios::scene::{
-    BackendKind, DisturbanceSpec, Mode, PositionRef, Scalar, SegmentSpec, ThrustSpec, Timing,
+    BackendKind, DisturbanceSpec, ModeKind, PositionRef, Scalar, SegmentSpec, ThrustSpec, Timing,
     VehicleKind,
 };
 use scenarios::{RunOptions, builtin, run};
@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     scene.integrator.kind = "rkmk4".into();
     scene.integrator.dt = 1e-3;
     scene.plan = vec![SegmentSpec {
-        mode: Mode::Position,
+        mode: ModeKind::Position,
         until: None,
         until_psi: None,
         attitude: None,

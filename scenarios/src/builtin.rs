@@ -40,7 +40,7 @@ pub fn paper_flip() -> Scene {
     s.disturbance = Some(DisturbanceSpec::paper());
     s.plan = vec![
         SegmentSpec {
-            mode: Mode::Attitude,
+            mode: ModeKind::Attitude,
             until: Some(0.4),
             until_psi: None,
             attitude: Some(AttitudeRef::PaperFlip {}),
@@ -48,7 +48,7 @@ pub fn paper_flip() -> Scene {
             thrust: ThrustSpec::PdProjection,
         },
         SegmentSpec {
-            mode: Mode::Position,
+            mode: ModeKind::Position,
             until: None,
             until_psi: None,
             attitude: None,
@@ -83,7 +83,7 @@ pub fn paper_attitude_experiment() -> Scene {
     s.vehicle.kind = VehicleKind::PinnedQuadrotor;
     s.disturbance = Some(DisturbanceSpec::paper());
     s.plan = vec![SegmentSpec {
-        mode: Mode::Attitude,
+        mode: ModeKind::Attitude,
         until: None,
         until_psi: None,
         attitude: Some(AttitudeRef::EulerExperiment {
@@ -121,7 +121,7 @@ pub fn hover_disturbed() -> Scene {
     );
     s.disturbance = Some(DisturbanceSpec::paper());
     s.plan = vec![SegmentSpec {
-        mode: Mode::Position,
+        mode: ModeKind::Position,
         until: None,
         until_psi: None,
         attitude: None,
@@ -145,7 +145,7 @@ pub fn large_attitude_error() -> Scene {
     let a = 170f64.to_radians() / 2f64.sqrt();
     s.initial.rotation = [a, a, 0.0];
     s.plan = vec![SegmentSpec {
-        mode: Mode::Attitude,
+        mode: ModeKind::Attitude,
         until: None,
         until_psi: None,
         attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
@@ -171,7 +171,7 @@ pub fn tumble_recovery() -> Scene {
     s.initial.rotation = [a, a, 0.0];
     s.plan = vec![
         SegmentSpec {
-            mode: Mode::Attitude,
+            mode: ModeKind::Attitude,
             until: None,
             until_psi: Some(0.1),
             attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
@@ -179,7 +179,7 @@ pub fn tumble_recovery() -> Scene {
             thrust: ThrustSpec::Hover,
         },
         SegmentSpec {
-            mode: Mode::Position,
+            mode: ModeKind::Position,
             until: None,
             until_psi: None,
             attitude: None,
@@ -203,7 +203,7 @@ pub fn figure_eight() -> Scene {
     s.disturbance = Some(DisturbanceSpec::paper());
     s.initial.x = [0.0, 0.0, -1.0];
     s.plan = vec![SegmentSpec {
-        mode: Mode::Position,
+        mode: ModeKind::Position,
         until: None,
         until_psi: None,
         attitude: None,

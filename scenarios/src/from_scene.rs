@@ -434,7 +434,7 @@ pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<
         .iter()
         .map(|s| {
             let mode: Box<dyn Mode<B>> = match s.mode {
-                crate::scene::Mode::Attitude => {
+                crate::scene::ModeKind::Attitude => {
                     let a = SceneAttitude::<B>::new(s.attitude.as_ref().expect("validated"));
                     let thrust = match s.thrust {
                         ThrustSpec::Hover => AttitudeThrust::Constant(hover),
@@ -447,7 +447,7 @@ pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<
                     };
                     Box::new(AttitudeMode::new(params, ag, a, thrust))
                 }
-                crate::scene::Mode::Position => {
+                crate::scene::ModeKind::Position => {
                     let p = ScenePosition::<B>::new(s.position.as_ref().expect("validated"));
                     let mode = PositionMode::new(params, pg, ag, model, p);
                     if std::mem::replace(&mut position_seen, true) {

@@ -38,7 +38,7 @@ use controllers::{
 };
 use lie::{Backend, NalgebraF64 as B, Rotation, So3Mat};
 
-use crate::scene::{GainsSpec, Mode};
+use crate::scene::{GainsSpec, ModeKind};
 use crate::{RunOptions, RunOutput, Scene, SceneError, SimError};
 
 /// The bounds of the conditions, derived from a scene.
@@ -117,13 +117,13 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
                 continue;
             };
             match seg.mode {
-                Mode::Attitude => {
+                ModeKind::Attitude => {
                     if let Some(a) = &seg.attitude {
                         let (_, w, _) = crate::reference::attitude_f64(a, t);
                         w_max = w_max.max(norm(w));
                     }
                 }
-                Mode::Position => {
+                ModeKind::Position => {
                     any_position = true;
                     let Some(pr) = &seg.position else { continue };
                     let r = crate::reference::position::<B>(pr, t);

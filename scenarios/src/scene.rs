@@ -287,7 +287,7 @@ pub enum AccelModel {
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
     /// `attitude` or `position`.
-    pub mode: Mode,
+    pub mode: ModeKind,
     /// End time, s (absolute); absent for the last segment.
     #[serde(default)]
     pub until: Option<f64>,
@@ -310,7 +310,7 @@ pub struct SegmentSpec {
 /// Flight mode.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Mode {
+pub enum ModeKind {
     /// Attitude tracking (eqn:aM).
     Attitude,
     /// Position tracking (eqn:f, eqn:M).
@@ -730,13 +730,15 @@ impl Scene {
             None => {}
         }
         match seg.mode {
-            Mode::Attitude if seg.attitude.is_none() => {
+            ModeKind::Attitude if seg.attitude.is_none() => {
                 return Err((
                     "mode",
                     format!("plan[{k}] is `attitude` mode but has no `[plan.attitude]` reference"),
                 ));
             }
-            Mode::Attitude if seg.thrust == ThrustSpec::PdProjection && seg.position.is_none() => {
+            ModeKind::Attitude
+                if seg.thrust == ThrustSpec::PdProjection && seg.position.is_none() =>
+            {
                 return Err((
                     "thrust",
                     format!(
@@ -744,13 +746,13 @@ impl Scene {
                     ),
                 ));
             }
-            Mode::Position if seg.position.is_none() => {
+            ModeKind::Position if seg.position.is_none() => {
                 return Err((
                     "mode",
                     format!("plan[{k}] is `position` mode but has no `[plan.position]` reference"),
                 ));
             }
-            Mode::Position
+            ModeKind::Position
                 if !matches!(
                     self.vehicle.kind,
                     VehicleKind::Quadrotor | VehicleKind::Hexarotor | VehicleKind::Custom(_)

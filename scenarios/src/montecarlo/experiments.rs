@@ -10,7 +10,7 @@ use dynamics::RigidBodyState;
 use lie::{Backend, GlamF64, Real};
 
 use super::{Status, Stream, Study, in_ball, shoemake};
-use crate::scene::{AttitudeRef, DisturbanceSpec, Mode, PositionRef, SegmentSpec, ThrustSpec};
+use crate::scene::{AttitudeRef, DisturbanceSpec, ModeKind, PositionRef, SegmentSpec, ThrustSpec};
 use crate::sim::{DivergenceGuard, SimError, Simulation, SimulationBuilder};
 use crate::{Divergence, Scene, builtin};
 
@@ -162,7 +162,7 @@ impl Setup {
         let mut s = if self.is_position() {
             let mut s = builtin::hover_disturbed();
             s.plan = vec![SegmentSpec {
-                mode: Mode::Position,
+                mode: ModeKind::Position,
                 until: None,
                 until_psi: None,
                 attitude: None,
@@ -177,7 +177,7 @@ impl Setup {
             let mut s = builtin::large_attitude_error();
             s.disturbance = Some(DisturbanceSpec::paper());
             s.plan = vec![SegmentSpec {
-                mode: Mode::Attitude,
+                mode: ModeKind::Attitude,
                 until: None,
                 until_psi: None,
                 attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
