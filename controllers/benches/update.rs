@@ -67,11 +67,13 @@ fn generic<B: Backend>(c: &mut Criterion, pair: &str) {
                 &p,
                 &pg,
                 &ag,
-                black_box(&k.st),
-                black_box(k.ei),
-                black_box(k.e_att),
-                black_box(&k.pref),
-                AccelerationModel::Nominal,
+                &controllers::PositionInput {
+                    state: black_box(&k.st),
+                    e_i_pos: black_box(k.ei),
+                    e_i_att: black_box(k.e_att),
+                    reference: black_box(&k.pref),
+                    model: AccelerationModel::Nominal,
+                },
             )
             .unwrap();
             // By reference: returning the ~300-byte output by value
@@ -119,11 +121,13 @@ fn hand_benches(c: &mut Criterion) {
                 &p,
                 &PositionGains::paper(),
                 &AttitudeGains::paper(),
-                &k.st,
-                k.ei,
-                k.e_att,
-                &k.pref,
-                AccelerationModel::Nominal,
+                &controllers::PositionInput {
+                    state: &k.st,
+                    e_i_pos: k.ei,
+                    e_i_att: k.e_att,
+                    reference: &k.pref,
+                    model: AccelerationModel::Nominal,
+                },
             )
             .unwrap();
             let o = $m::position(&i).unwrap();

@@ -83,16 +83,7 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
     e_i: V3<B>,
     reference: &AttitudeReference<B, R>,
 ) -> Result<AttitudeOutput<B>, ControlError> {
-    let out = attitude_core(
-        params,
-        gains,
-        r,
-        omega,
-        e_i,
-        reference.rd,
-        reference.omega_d,
-        reference.omega_d_dot,
-    );
+    let out = attitude_core(params, gains, r, omega, e_i, reference);
     if is_finite::<B>(out.moment) {
         return Ok(out);
     }
@@ -118,7 +109,6 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
 ///
 /// `E = R_dᵀR` is formed once: `e_R` and `Ψ` are its skew part and trace,
 /// and the desired rates seen in the body frame are `Eᵀ Ω_d`, `Eᵀ Ω̇_d`.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
@@ -126,10 +116,9 @@ pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     r: R,
     omega: V3<B>,
     e_i: V3<B>,
-    rd: R,
-    omega_d: V3<B>,
-    omega_d_dot: V3<B>,
+    reference: &AttitudeReference<B, R>,
 ) -> AttitudeOutput<B> {
+    let (rd, omega_d, omega_d_dot) = (reference.rd, reference.omega_d, reference.omega_d_dot);
     let e = rd.inverse() * r;
     let (e_r, psi) = e.errors_to_identity();
     // R^T R_d Ω_d and R^T R_d Ω̇_d: the desired rates seen in the body frame.
@@ -160,17 +149,15 @@ pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
 /// times through the generic `e_r`, `e_omega`, `psi`), kept as the
 /// reference the faster one is tested against.
 #[cfg(test)]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     gains: &AttitudeGains<B>,
     r: R,
     omega: V3<B>,
     e_i: V3<B>,
-    rd: R,
-    omega_d: V3<B>,
-    omega_d_dot: V3<B>,
+    reference: &AttitudeReference<B, R>,
 ) -> AttitudeOutput<B> {
+    let (rd, omega_d, omega_d_dot) = (reference.rd, reference.omega_d, reference.omega_d_dot);
     let e_r = r.e_r(rd);
     let e_w = lie::e_omega::<B, R>(r, omega, rd, omega_d);
     let rel = r.inverse() * rd;
@@ -264,8 +251,30 @@ mod tests {
             };
             let (r, rd) = (So3Mat::<D>::exp(vv(t)), So3Mat::<D>::exp(vv(t + 1.0)));
             let args = (vv(t + 2.0), vv(t + 3.0) * 0.1, vv(t + 4.0), vv(t + 5.0));
-            let a = attitude_core(&p, &g, r, args.0, args.1, rd, args.2, args.3);
-            let b = attitude_core_reference(&p, &g, r, args.0, args.1, rd, args.2, args.3);
+            let a = attitude_core(
+                &p,
+                &g,
+                r,
+                args.0,
+                args.1,
+                &AttitudeReference {
+                    rd,
+                    omega_d: args.2,
+                    omega_d_dot: args.3,
+                },
+            );
+            let b = attitude_core_reference(
+                &p,
+                &g,
+                r,
+                args.0,
+                args.1,
+                &AttitudeReference {
+                    rd,
+                    omega_d: args.2,
+                    omega_d_dot: args.3,
+                },
+            );
             worst = worst
                 .max((a.moment - b.moment).norm())
                 .max((a.psi - b.psi).abs())

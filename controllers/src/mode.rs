@@ -446,11 +446,13 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
             &self.params,
             &self.pos_gains,
             &self.att_gains,
-            state,
-            e_pos,
-            e_att,
-            &self.reference.position(t),
-            self.model,
+            &crate::PositionInput {
+                state,
+                e_i_pos: e_pos,
+                e_i_att: e_att,
+                reference: &self.reference.position(t),
+                model: self.model,
+            },
         )?;
         let (a, p) = (
             B::vec3_to_array(out.e_i_att_rate),

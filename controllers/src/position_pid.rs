@@ -3,7 +3,7 @@
 //! obtained by differentiating `b3c` and `b1c` analytically, and the moment
 //! (eqn:M).
 
-use crate::attitude_pid::{AttitudeGains, attitude_core};
+use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_core};
 #[cfg(test)]
 use crate::vec::unit_derivs;
 use crate::vec::{cmul, is_finite, norm, zero};
@@ -246,9 +246,28 @@ pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
     B::dot(a, state.r.act(e3))
 }
 
+/// What the position law reads at one instant, by name: the two integrals
+/// sit next to each other in the register in the order `[e_I, e_i]`, and
+/// named fields keep them from being swapped.
+#[derive(Copy, Clone, Debug)]
+pub struct PositionInput<'a, B: Backend, R: Rotation<B>> {
+    /// The vehicle's state.
+    pub state: &'a VehicleState<B, R>,
+    /// The position integral `e_i` (register slots 3–5 in the paper's
+    /// modes).
+    pub e_i_pos: V3<B>,
+    /// The attitude integral `e_I` (register slots 0–2).
+    pub e_i_att: V3<B>,
+    /// The position and heading command.
+    pub reference: &'a PositionReference<B>,
+    /// Which acceleration the derivatives of `R_c` use.
+    pub model: AccelerationModel<B>,
+}
+
 /// The position law: (eqn:Rd3), (eqn:f), (eqn:RdWc), (eqn:M).
 ///
-/// `e_i_pos` and `e_i_att` are the caller-held integrals `e_i` and `e_I`.
+/// `input.e_i_pos` and `input.e_i_att` are the caller-held integrals
+/// `e_i` and `e_I`.
 /// With `A = −k_x e_x − k_v e_v − k_i sat_σ(e_i) − m g e3 + m ẍ_d`:
 /// `b3c = −A/‖A‖`, `f = −A·R e3`, `b2c = b3c × b1d/‖·‖`, `b1c = b2c × b3c`,
 /// `R_c = [b1c, b2c, b3c]`. `Ȧ` and `Ä` use `ė_x = e_v`, `ė_v = a − ẍ_d`,
@@ -264,18 +283,20 @@ pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
 /// formed. A non-finite input is found from the outputs (every input but
 /// `e_i`, whose saturation would drop a NaN, reaches `f` or `M`; a test
 /// injects NaN and ±∞ into each), and then named by checking the inputs.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn position_control<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
     att_gains: &AttitudeGains<B>,
-    state: &VehicleState<B, R>,
-    e_i_pos: V3<B>,
-    e_i_att: V3<B>,
-    reference: &PositionReference<B>,
-    model: AccelerationModel<B>,
+    input: &PositionInput<'_, B, R>,
 ) -> Result<PositionOutput<B, R>, ControlError> {
+    let PositionInput {
+        state,
+        e_i_pos,
+        e_i_att,
+        reference,
+        model,
+    } = *input;
     // `sat` clamps with min/max, which return the other operand for a NaN:
     // e_i must be checked itself.
     if !is_finite::<B>(e_i_pos) {
@@ -290,9 +311,7 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
             field: "measured acceleration/jerk",
         });
     }
-    let out = position_core(
-        params, pos_gains, att_gains, state, e_i_pos, e_i_att, reference, model,
-    );
+    let out = position_core(params, pos_gains, att_gains, input);
     let degenerate = out.degeneracy.thrust_direction_undefined || out.degeneracy.heading_undefined;
     // A fallback replaces derivatives by zeros and could drop a NaN in
     // them: then every input is checked, as it is whenever an output is
@@ -349,18 +368,20 @@ fn reference_field<B: Backend>(reference: &PositionReference<B>) -> Option<&'sta
 }
 
 /// [`position_control`] without the input checks.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn position_core<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
     att_gains: &AttitudeGains<B>,
-    state: &VehicleState<B, R>,
-    e_i_pos: V3<B>,
-    e_i_att: V3<B>,
-    reference: &PositionReference<B>,
-    model: AccelerationModel<B>,
+    input: &PositionInput<'_, B, R>,
 ) -> PositionOutput<B, R> {
+    let PositionInput {
+        state,
+        e_i_pos,
+        e_i_att,
+        reference,
+        model,
+    } = *input;
     let s = S::<B>::lit;
     let (one, two) = (s(1.0), s(2.0));
     let (m, g) = (params.mass, params.gravity);
@@ -490,9 +511,11 @@ fn position_core<B: Backend, R: Rotation<B>>(
         r,
         state.omega,
         e_i_att,
-        rc,
-        omega_c,
-        omega_c_dot,
+        &AttitudeReference {
+            rd: rc,
+            omega_d: omega_c,
+            omega_d_dot: omega_c_dot,
+        },
     );
     PositionOutput {
         thrust,
@@ -517,7 +540,8 @@ fn position_core<B: Backend, R: Rotation<B>>(
 /// against.
 #[cfg(test)]
 ///
-/// `e_i_pos` and `e_i_att` are the caller-held integrals `e_i` and `e_I`.
+/// `input.e_i_pos` and `input.e_i_att` are the caller-held integrals
+/// `e_i` and `e_I`.
 /// With `A = −k_x e_x − k_v e_v − k_i sat_σ(e_i) − m g e3 + m ẍ_d`:
 /// `b3c = −A/‖A‖`, `f = −A·R e3`, `b2c = b3c × b1d/‖·‖`, `b1c = b2c × b3c`,
 /// `R_c = [b1c, b2c, b3c]`. `Ȧ` and `Ä` use `ė_x = e_v`, `ė_v = a − ẍ_d`,
@@ -525,17 +549,19 @@ fn position_core<B: Backend, R: Rotation<B>>(
 /// crossings), and the acceleration from `model`; then
 /// `Ω_c = (R_cᵀṘ_c)^∨`, `Ω̇_c = (R_cᵀR̈_c)^∨` (the symmetric part
 /// `Ṙ_cᵀṘ_c` of the derivative of `R_cᵀṘ_c` has no vee).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
     att_gains: &AttitudeGains<B>,
-    state: &VehicleState<B, R>,
-    e_i_pos: V3<B>,
-    e_i_att: V3<B>,
-    reference: &PositionReference<B>,
-    model: AccelerationModel<B>,
+    input: &PositionInput<'_, B, R>,
 ) -> Result<PositionOutput<B, R>, ControlError> {
+    let PositionInput {
+        state,
+        e_i_pos,
+        e_i_att,
+        reference,
+        model,
+    } = *input;
     check_inputs(state, e_i_pos, e_i_att, reference, &model)?;
     let s = S::<B>::lit;
     let (m, g) = (params.mass, params.gravity);
@@ -637,9 +663,11 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
         r,
         state.omega,
         e_i_att,
-        rc,
-        omega_c,
-        omega_c_dot,
+        &AttitudeReference {
+            rd: rc,
+            omega_d: omega_c,
+            omega_d_dot: omega_c_dot,
+        },
     );
     if !is_finite::<B>(att.moment) || !thrust.is_finite() {
         return Err(ControlError::NonFinite { field: "state.r" });
@@ -773,8 +801,32 @@ mod tests {
                     jerk: rng.v(5.0),
                 },
             };
-            let a = position_control(&p, &pg, &ag, &st, ei, e_att, &r, model).unwrap();
-            let b = position_control_reference(&p, &pg, &ag, &st, ei, e_att, &r, model).unwrap();
+            let a = position_control(
+                &p,
+                &pg,
+                &ag,
+                &PositionInput {
+                    state: &st,
+                    e_i_pos: ei,
+                    e_i_att: e_att,
+                    reference: &r,
+                    model,
+                },
+            )
+            .unwrap();
+            let b = position_control_reference(
+                &p,
+                &pg,
+                &ag,
+                &PositionInput {
+                    state: &st,
+                    e_i_pos: ei,
+                    e_i_att: e_att,
+                    reference: &r,
+                    model,
+                },
+            )
+            .unwrap();
             assert_eq!(a.degeneracy, b.degeneracy);
             let d = |x: V3<B>, y: V3<B>| (x - y).norm() / (1.0 + y.norm());
             let rel = [
@@ -816,8 +868,32 @@ mod tests {
         let vertical = PositionReference::<B>::hold(z, B::vec3(0.0, 0.0, 1.0));
         for r in [fall, vertical] {
             let m = AccelerationModel::Nominal;
-            let a = position_control(&p, &pg, &ag, &st, z, z, &r, m).unwrap();
-            let b = position_control_reference(&p, &pg, &ag, &st, z, z, &r, m).unwrap();
+            let a = position_control(
+                &p,
+                &pg,
+                &ag,
+                &PositionInput {
+                    state: &st,
+                    e_i_pos: z,
+                    e_i_att: z,
+                    reference: &r,
+                    model: m,
+                },
+            )
+            .unwrap();
+            let b = position_control_reference(
+                &p,
+                &pg,
+                &ag,
+                &PositionInput {
+                    state: &st,
+                    e_i_pos: z,
+                    e_i_att: z,
+                    reference: &r,
+                    model: m,
+                },
+            )
+            .unwrap();
             assert_eq!(a.degeneracy, b.degeneracy);
             assert!(a.degeneracy.thrust_direction_undefined || a.degeneracy.heading_undefined);
             assert!((a.moment - b.moment).norm() < 1e-12 * (1.0 + b.moment.norm()));
@@ -898,11 +974,13 @@ mod tests {
                             &p,
                             &pg,
                             &ag,
-                            &st,
-                            ei,
-                            e_att,
-                            &r,
-                            AccelerationModel::Nominal,
+                            &PositionInput {
+                                state: &st,
+                                e_i_pos: ei,
+                                e_i_att: e_att,
+                                reference: &r,
+                                model: AccelerationModel::Nominal,
+                            },
                         );
                         let want = if field >= 5 {
                             ControlError::NonFiniteReference { field: expected }

@@ -233,8 +233,19 @@ fn position_field<'a>(
             r: R::from_matrix_unchecked(s.r),
             omega: s.w,
         };
-        let out =
-            position_control(p, pg, ag, &st, s.ei_pos, s.ei_att, &reference(t), model).unwrap();
+        let out = position_control(
+            p,
+            pg,
+            ag,
+            &PositionInput {
+                state: &st,
+                e_i_pos: s.ei_pos,
+                e_i_att: s.ei_att,
+                reference: &reference(t),
+                model,
+            },
+        )
+        .unwrap();
         let (rdot, wdot, xdot, vdot) = rigid_body(p, s, out.thrust, out.moment, dx, dr);
         X {
             r: rdot,
@@ -374,11 +385,13 @@ fn computed_attitude_derivatives_match_finite_differences() {
             &p,
             &pg,
             &ag,
-            &st,
-            s.ei_pos,
-            s.ei_att,
-            &figure_eight(t),
-            AccelerationModel::NominalWithoutEstimate,
+            &PositionInput {
+                state: &st,
+                e_i_pos: s.ei_pos,
+                e_i_att: s.ei_att,
+                reference: &figure_eight(t),
+                model: AccelerationModel::NominalWithoutEstimate,
+            },
         )
         .unwrap()
     };
@@ -431,11 +444,13 @@ fn a_vanishing_thrust_direction_falls_back_to_the_body_axis() {
         &p,
         &pg,
         &ag,
-        &st,
-        V::zeros(),
-        V::zeros(),
-        &paper_hold(0.0),
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st,
+            e_i_pos: V::zeros(),
+            e_i_att: V::zeros(),
+            reference: &paper_hold(0.0),
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     assert!(out.degeneracy.thrust_direction_undefined);
@@ -463,11 +478,13 @@ fn b1d_parallel_to_b3c_holds_the_current_heading() {
         &p,
         &pg,
         &ag,
-        &st,
-        V::zeros(),
-        V::zeros(),
-        &reference,
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st,
+            e_i_pos: V::zeros(),
+            e_i_att: V::zeros(),
+            reference: &reference,
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     assert!(out.degeneracy.heading_undefined);
@@ -497,11 +514,13 @@ fn non_finite_inputs_are_errors_naming_the_field() {
         &p,
         &pg,
         &ag,
-        &st,
-        V::zeros(),
-        V::zeros(),
-        &paper_hold(0.0),
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st,
+            e_i_pos: V::zeros(),
+            e_i_att: V::zeros(),
+            reference: &paper_hold(0.0),
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap_err();
     assert_eq!(err, ControlError::NonFinite { field: "state.v" });

@@ -37,22 +37,26 @@ fn f32_glam_matches_f64_nalgebra() {
         &RigidBodyParams::paper(),
         &PositionGains::paper(),
         &AttitudeGains::paper(),
-        &st32,
-        v32(ei),
-        v32(e_att),
-        &r32,
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st32,
+            e_i_pos: v32(ei),
+            e_i_att: v32(e_att),
+            reference: &r32,
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     let o64 = position_control(
         &RigidBodyParams::paper(),
         &PositionGains::paper(),
         &AttitudeGains::paper(),
-        &st64,
-        v64(ei),
-        v64(e_att),
-        &r64,
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st64,
+            e_i_pos: v64(ei),
+            e_i_att: v64(e_att),
+            reference: &r64,
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     let d = |a: glam::Vec3, b: nalgebra::Vector3<f64>| {
@@ -90,11 +94,13 @@ fn clamped_integral_stops_at_sigma() {
         &RigidBodyParams::paper(),
         &gains,
         &AttitudeGains::paper(),
-        &st,
-        e_i,
-        v(0.0, 0.0, 0.0),
-        &reference,
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st,
+            e_i_pos: e_i,
+            e_i_att: v(0.0, 0.0, 0.0),
+            reference: &reference,
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     assert_eq!(out.e_i_pos_rate.x, 0.0, "at +σ and pushing outward: held");
@@ -107,11 +113,13 @@ fn clamped_integral_stops_at_sigma() {
         &RigidBodyParams::paper(),
         &gains,
         &AttitudeGains::paper(),
-        &st,
-        e_i,
-        v(0.0, 0.0, 0.0),
-        &reference,
-        AccelerationModel::Nominal,
+        &PositionInput {
+            state: &st,
+            e_i_pos: e_i,
+            e_i_att: v(0.0, 0.0, 0.0),
+            reference: &reference,
+            model: AccelerationModel::Nominal,
+        },
     )
     .unwrap();
     assert!(

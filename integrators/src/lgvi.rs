@@ -294,13 +294,13 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         Ok(next)
     }
 
-    #[allow(clippy::too_many_arguments)] // private recursion helper
+    /// One step of `h` from `(t, y)`, halved (recursively, `depth` deep so
+    /// far) while the implicit equations have no solution.
     fn advance<Sys: System<B, N> + ?Sized>(
         &mut self,
         sys: &mut Sys,
         body: &Body<B>,
-        t: S<B>,
-        h: S<B>,
+        (t, h): (S<B>, S<B>),
         y: &State<B, N>,
         depth: u32,
         stats: &mut StepStats,
@@ -314,8 +314,8 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
                 if depth < self.max_halvings =>
             {
                 let half = h * S::<B>::lit(0.5);
-                let mid = self.advance(sys, body, t, half, y, depth + 1, stats)?;
-                self.advance(sys, body, t + half, half, &mid, depth + 1, stats)
+                let mid = self.advance(sys, body, (t, half), y, depth + 1, stats)?;
+                self.advance(sys, body, (t + half, half), &mid, depth + 1, stats)
             }
             Err(e) => Err(e),
         }
@@ -340,7 +340,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Lgvi<B, N> {
         let body = Body::of(sys);
         let mut stats = StepStats::default();
         let start = *y;
-        match self.advance(sys, &body, t, h, &start, 0, &mut stats) {
+        match self.advance(sys, &body, (t, h), &start, 0, &mut stats) {
             Ok(next) => {
                 finish(t, y, next)?;
                 Ok(stats)

@@ -69,11 +69,13 @@ impl System<B, 6> for ClosedLoop {
             &self.params,
             &self.pg,
             &self.ag,
-            &st,
-            e_pos,
-            e_att,
-            &reference(t),
-            AccelerationModel::Nominal,
+            &controllers::PositionInput {
+                state: &st,
+                e_i_pos: e_pos,
+                e_i_att: e_att,
+                reference: &reference(t),
+                model: AccelerationModel::Nominal,
+            },
         )
         .expect("finite");
         let w = Wrench {

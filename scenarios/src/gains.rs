@@ -141,11 +141,33 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
                     let z = B::vec3(0.0, 0.0, 0.0);
                     let nominal = AccelerationModel::Nominal;
                     let control = |source| SimError::Control { t, source };
-                    let first =
-                        position_control(&p, &pg, &ag, &st, z, z, &r, nominal).map_err(control)?;
+                    let first = position_control(
+                        &p,
+                        &pg,
+                        &ag,
+                        &controllers::PositionInput {
+                            state: &st,
+                            e_i_pos: z,
+                            e_i_att: z,
+                            reference: &r,
+                            model: nominal,
+                        },
+                    )
+                    .map_err(control)?;
                     st.r = first.rc;
-                    let out =
-                        position_control(&p, &pg, &ag, &st, z, z, &r, nominal).map_err(control)?;
+                    let out = position_control(
+                        &p,
+                        &pg,
+                        &ag,
+                        &controllers::PositionInput {
+                            state: &st,
+                            e_i_pos: z,
+                            e_i_att: z,
+                            reference: &r,
+                            model: nominal,
+                        },
+                    )
+                    .map_err(control)?;
                     w_max = w_max.max(norm(B::vec3_to_array(out.omega_c)));
                 }
             }

@@ -114,11 +114,13 @@ impl<B: Backend> Mode<B> for Landing<B> {
             &self.params,
             &self.pos_gains,
             &self.att_gains,
-            state,
-            e_pos,
-            e_att,
-            &self.descent(t.to_f64_lossless()),
-            AccelerationModel::Nominal,
+            &controllers::PositionInput {
+                state,
+                e_i_pos: e_pos,
+                e_i_att: e_att,
+                reference: &self.descent(t.to_f64_lossless()),
+                model: AccelerationModel::Nominal,
+            },
         )?;
         let (a, p) = (
             B::vec3_to_array(out.e_i_att_rate),
