@@ -63,6 +63,6 @@ if [[ "${DRY_RUN:-0}" == 1 ]]; then
 fi
 mkdir -p "$out"
 job=$(sbatch --parsable "$array_script")
-sbatch --dependency=afterok:"$job" --job-name=gpid-mc-merge --output="$out/slurm-merge-%j.log" --wrap "$(merge_cmd)"
+merge=$(sbatch --parsable --dependency=afterok:"$job" --job-name=gpid-mc-merge --output="$out/slurm-merge-%j.log" --wrap "$(merge_cmd)")
 rm -f "$array_script"
-echo "submitted array job $job ($shards shards) and its merge"
+echo "submitted array job $job ($shards shards) and its merge job $merge"

@@ -367,6 +367,59 @@ fn reference_field<B: Backend>(reference: &PositionReference<B>) -> Option<&'sta
     .map(|(_, f)| f)
 }
 
+/// `(b, ḃ, b̈, q, 1/‖u‖)` of [`unit_with_derivatives`].
+type UnitDerivatives<B> = (V3<B>, V3<B>, V3<B>, S<B>, S<B>);
+
+/// `b = u/‖u‖` and its first two derivatives from those of `u` (`n` =
+/// ‖u‖ > 0): with `q = b·u̇`, `ḃ = (u̇ − q b)/‖u‖`,
+/// `b̈ = (ü − 2q ḃ − (ḃ·u̇ + b·ü) b)/‖u‖`. Returns `(b, ḃ, b̈, q, 1/‖u‖)`.
+#[inline(always)]
+fn unit_with_derivatives<B: Backend>(
+    u: V3<B>,
+    ud: V3<B>,
+    udd: V3<B>,
+    n: S<B>,
+) -> UnitDerivatives<B> {
+    let (one, two) = (S::<B>::lit(1.0), S::<B>::lit(2.0));
+    let inv = one / n;
+    let b = u * inv;
+    let q = B::dot(b, ud);
+    let bd = (ud - b * q) * inv;
+    let bdd = (udd - bd * (two * q) - b * (B::dot(bd, ud) + B::dot(b, udd))) * inv;
+    (b, bd, bdd, q, inv)
+}
+
+/// `b2c` and `1/‖c‖` when `b3c` is `R e3` (no thrust direction) or nearly
+/// parallel to `b1d`: `c = b3c × b1d` from `b3c` itself, and when even
+/// that vanishes a body axis (`b1`, else `b2`) replaces `b1d` (its
+/// derivatives zero), noted in `degeneracy`.
+#[cold]
+#[inline(never)]
+fn degenerate_heading<B: Backend>(
+    b3: V3<B>,
+    b1d: &mut (V3<B>, V3<B>, V3<B>),
+    (rb1, rb2): (V3<B>, V3<B>),
+    c_floor: S<B>,
+    degeneracy: &mut Degeneracy,
+) -> (V3<B>, S<B>) {
+    let z = zero::<B>();
+    let mut c = B::cross(b3, b1d.0);
+    let mut nc = norm::<B>(c);
+    if nc <= c_floor {
+        degeneracy.heading_undefined = true;
+        let alt = if norm::<B>(B::cross(b3, rb1)) > c_floor {
+            rb1
+        } else {
+            rb2
+        };
+        *b1d = (alt, z, z);
+        c = B::cross(b3, b1d.0);
+        nc = norm::<B>(c);
+    }
+    let invc = S::<B>::lit(1.0) / nc;
+    (c * invc, invc)
+}
+
 /// [`position_control`] without the input checks.
 #[inline(always)]
 fn position_core<B: Backend, R: Rotation<B>>(
@@ -441,12 +494,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
     let n = norm::<B>(u);
     let a_floor = S::<B>::epsilon().sqrt() * m * g;
     let (b3, b3d, b3dd, q3, inv3) = if n > a_floor {
-        let inv = one / n;
-        let b = u * inv;
-        let q = B::dot(b, ud);
-        let bd = (ud - b * q) * inv;
-        let bdd = (udd - bd * (two * q) - b * (B::dot(bd, ud) + B::dot(b, udd))) * inv;
-        (b, bd, bdd, q, inv)
+        unit_with_derivatives::<B>(u, ud, udd, n)
     } else {
         degeneracy.thrust_direction_undefined = true;
         (re3, z, z, s(0.0), s(0.0))
@@ -464,23 +512,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
         let inv_cu = one / ncu;
         (cu * inv_cu, n * inv_cu)
     } else {
-        // b3c is R e3 (no thrust direction) or nearly ∥ b1d: c from b3c
-        // itself, with a body axis for b1d when it is degenerate.
-        let mut c = B::cross(b3, b1d.0);
-        let mut nc = norm::<B>(c);
-        if nc <= c_floor {
-            degeneracy.heading_undefined = true;
-            let alt = if norm::<B>(B::cross(b3, rb1)) > c_floor {
-                rb1
-            } else {
-                rb2
-            };
-            b1d = (alt, z, z);
-            c = B::cross(b3, b1d.0);
-            nc = norm::<B>(c);
-        }
-        let invc = one / nc;
-        (c * invc, invc)
+        degenerate_heading::<B>(b3, &mut b1d, (rb1, rb2), c_floor, &mut degeneracy)
     };
     let cd = B::cross(b3d, b1d.0) + B::cross(b3, b1d.1);
     let cdd = B::cross(b3dd, b1d.0) + B::cross(b3d, b1d.1) * two + B::cross(b3, b1d.2);

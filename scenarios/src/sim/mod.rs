@@ -988,8 +988,9 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         self
     }
 
-    /// Checks every setting and lays out the extra states.
-    pub fn build(self) -> Result<Simulation<'a, B, N, I>, SimError> {
+    /// The settings' values: finite and in range, each error naming its
+    /// field and value.
+    fn check_settings(&self) -> Result<(), SimError> {
         let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(bad("dt", format!("{} must be finite and > 0", self.dt)));
@@ -1017,6 +1018,13 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         if let Some(f) = self.initial.non_finite_field() {
             return Err(bad("initial", format!("`{f}` is not finite")));
         }
+        Ok(())
+    }
+
+    /// The plan: segment end times increasing, Ψ thresholds in (0, 2), no
+    /// switch condition on the last segment.
+    fn check_plan(&self) -> Result<(), SimError> {
+        let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         let mut last = 0.0;
         for (k, seg) in self.plan.iter().enumerate() {
             let is_last = k + 1 == self.plan.len();
@@ -1045,6 +1053,14 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Checks every setting and lays out the extra states.
+    pub fn build(self) -> Result<Simulation<'a, B, N, I>, SimError> {
+        self.check_settings()?;
+        self.check_plan()?;
+        let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         let integrals = self
             .plan
             .iter()
