@@ -252,14 +252,29 @@ mod direct {
     }
 }
 
+/// Hover under the paper's disturbance for 1 s at 1 ms: the scene of the
+/// per-step benches.
+fn hover_scene() -> Scene {
+    let mut pos = builtin::hover_disturbed();
+    pos.duration = 1.0;
+    pos.integrator.dt = 1e-3;
+    pos
+}
+
 fn bench(c: &mut Criterion) {
+    bench_uses(c);
+    bench_flip(c);
+    bench_steppers(c);
+}
+
+/// What a scene pays for what it uses, and the twins checked against the
+/// generic loop.
+fn bench_uses(c: &mut Criterion) {
     let mut att = builtin::paper_attitude_experiment();
     att.duration = 1.0;
     let mut att_free = att.clone();
     att_free.vehicle.kind = VehicleKind::Quadrotor;
-    let mut pos = builtin::hover_disturbed();
-    pos.duration = 1.0;
-    pos.integrator.dt = 1e-3;
+    let pos = hover_scene();
     let mut pos_clean = pos.clone();
     pos_clean.disturbance = None;
     let mut g = c.benchmark_group("uses");
@@ -303,6 +318,10 @@ fn bench(c: &mut Criterion) {
         dd < 1e-9,
         "the direct loop differs from the generic one by {dd}"
     );
+}
+
+/// The whole paper-flip on every pair, after its error is checked.
+fn bench_flip(c: &mut Criterion) {
     // The whole-run figure the README quotes: paper-flip (4 s) by RK4 at h = 1 ms,
     // a sample kept every 0.05 s, on every pair; its final-state error
     // against Dormand–Prince at 1e-12 in f64 is printed first (and must
@@ -343,7 +362,12 @@ fn bench(c: &mut Criterion) {
         });
     }
     g.finish();
-    // Every stepper on every pair: 1000 steps of 1 ms (dopri: 1000 calls).
+}
+
+/// Every stepper on every pair: 1000 steps of 1 ms (dopri: 1000 calls),
+/// and RK4's hand-written and direct twins.
+fn bench_steppers(c: &mut Criterion) {
+    let pos = hover_scene();
     for kind in ["rk4", "rk4-projected", "rkmk4", "lgvi", "euler", "dopri"] {
         let mut g = c.benchmark_group(format!("step-{kind}"));
         for (scalar, backend, name) in [

@@ -85,6 +85,87 @@ fn vec3_field(fields: &[(u32, Wire<'_>)], k: u32) -> [f64; 3] {
     [f64_field(&v, 1), f64_field(&v, 2), f64_field(&v, 3)]
 }
 
+/// At t = 1 s: the pose's quaternion is unit and is the sample's R; the
+/// errors, command and integrals carry the sample's values bit for bit
+/// (field numbers in declaration order); the switch and the mode channel
+/// say what the run did.
+fn values_match_the_samples(bytes: &[u8], out: &scenarios::RunOutput) {
+    use foxglove::Decode;
+    use foxglove::messages::PoseInFrame;
+    let s = scenarios::metrics::at(&out.samples, 1.0).unwrap();
+    let at = |topic: &str| {
+        mcap::MessageStream::new(bytes)
+            .unwrap()
+            .map(|m| m.unwrap())
+            .find(|m| m.channel.topic == topic && m.log_time == 1_000_000_000)
+            .unwrap_or_else(|| panic!("{topic} at t = 1 s"))
+            .data
+            .into_owned()
+    };
+    let pose = PoseInFrame::decode(&at("/vehicle/pose")[..]).unwrap();
+    let q = pose.pose.unwrap().orientation.unwrap();
+    let norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+    assert!((norm - 1.0).abs() < 1e-12);
+    assert_eq!(
+        scenarios::output::quaternion_xyzw(&s.r),
+        [q.x, q.y, q.z, q.w]
+    );
+    let e = at("/errors");
+    let e = wire(&e);
+    assert_eq!(f64_field(&e, 1), s.psi);
+    assert_eq!(f64_field(&e, 2), s.ex);
+    assert_eq!(vec3_field(&e, 4), s.omega);
+    assert_eq!(vec3_field(&e, 5), s.omega_d);
+    let c = at("/command");
+    let c = wire(&c);
+    assert_eq!(f64_field(&c, 1), s.thrust);
+    assert_eq!(vec3_field(&c, 2), s.moment);
+    // Repeated doubles, packed or one field each: both are valid protobuf.
+    let rotors: Vec<f64> = c
+        .iter()
+        .flat_map(|(f, w)| match (f, w) {
+            (3, Wire::Bytes(b)) => b
+                .chunks(8)
+                .map(|x| f64::from_le_bytes(x.try_into().unwrap()))
+                .collect(),
+            (3, Wire::F64(x)) => vec![*x],
+            _ => vec![],
+        })
+        .collect();
+    assert_eq!(rotors, s.rotors);
+    let i = at("/integrals");
+    let i = wire(&i);
+    assert_eq!(vec3_field(&i, 1), s.e_att);
+    assert_eq!(vec3_field(&i, 2), s.e_pos);
+    // The switch at 0.4 s: from segment 0 (omitted: proto3 drops zeros)
+    // to 1, position mode.
+    let sw = mcap::MessageStream::new(bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .filter(|m| m.channel.topic == "/mode")
+        .nth(1)
+        .expect("the switch");
+    let sw = wire(&sw.data);
+    assert!(
+        sw.iter()
+            .any(|(f, w)| *f == 3 && matches!(w, Wire::Varint(1))),
+        "{sw:?}"
+    );
+    assert_eq!(f64_field(&sw, 1), 0.4);
+    // The mode channel: the first mode at t = 0 with its name.
+    let m = mcap::MessageStream::new(bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .find(|m| m.channel.topic == "/mode")
+        .unwrap();
+    let m = wire(&m.data);
+    assert!(
+        m.iter()
+            .any(|(f, w)| *f == 4 && matches!(w, Wire::Bytes(b) if *b == b"attitude")),
+        "{m:?}"
+    );
+}
+
 #[test]
 fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
     use foxglove::Decode;
@@ -179,81 +260,7 @@ fn mcap_reads_back_with_the_expected_channels_schemas_and_counts() {
         summary.stats.unwrap().message_count as usize,
         counts.values().sum::<usize>()
     );
-    // At t = 1 s: the pose's quaternion is unit and is the sample's R; the
-    // errors, command and integrals carry the sample's values bit for bit
-    // (field numbers in declaration order).
-    let s = scenarios::metrics::at(&out.samples, 1.0).unwrap();
-    let at = |topic: &str| {
-        mcap::MessageStream::new(&bytes)
-            .unwrap()
-            .map(|m| m.unwrap())
-            .find(|m| m.channel.topic == topic && m.log_time == 1_000_000_000)
-            .unwrap_or_else(|| panic!("{topic} at t = 1 s"))
-            .data
-            .into_owned()
-    };
-    let pose = PoseInFrame::decode(&at("/vehicle/pose")[..]).unwrap();
-    let q = pose.pose.unwrap().orientation.unwrap();
-    let norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
-    assert!((norm - 1.0).abs() < 1e-12);
-    assert_eq!(
-        scenarios::output::quaternion_xyzw(&s.r),
-        [q.x, q.y, q.z, q.w]
-    );
-    let e = at("/errors");
-    let e = wire(&e);
-    assert_eq!(f64_field(&e, 1), s.psi);
-    assert_eq!(f64_field(&e, 2), s.ex);
-    assert_eq!(vec3_field(&e, 4), s.omega);
-    assert_eq!(vec3_field(&e, 5), s.omega_d);
-    let c = at("/command");
-    let c = wire(&c);
-    assert_eq!(f64_field(&c, 1), s.thrust);
-    assert_eq!(vec3_field(&c, 2), s.moment);
-    // Repeated doubles, packed or one field each: both are valid protobuf.
-    let rotors: Vec<f64> = c
-        .iter()
-        .flat_map(|(f, w)| match (f, w) {
-            (3, Wire::Bytes(b)) => b
-                .chunks(8)
-                .map(|x| f64::from_le_bytes(x.try_into().unwrap()))
-                .collect(),
-            (3, Wire::F64(x)) => vec![*x],
-            _ => vec![],
-        })
-        .collect();
-    assert_eq!(rotors, s.rotors);
-    let i = at("/integrals");
-    let i = wire(&i);
-    assert_eq!(vec3_field(&i, 1), s.e_att);
-    assert_eq!(vec3_field(&i, 2), s.e_pos);
-    // The switch at 0.4 s: from segment 0 (omitted: proto3 drops zeros)
-    // to 1, position mode.
-    let sw = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(|m| m.unwrap())
-        .filter(|m| m.channel.topic == "/mode")
-        .nth(1)
-        .expect("the switch");
-    let sw = wire(&sw.data);
-    assert!(
-        sw.iter()
-            .any(|(f, w)| *f == 3 && matches!(w, Wire::Varint(1))),
-        "{sw:?}"
-    );
-    assert_eq!(f64_field(&sw, 1), 0.4);
-    // The mode channel: the first mode at t = 0 with its name.
-    let m = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(|m| m.unwrap())
-        .find(|m| m.channel.topic == "/mode")
-        .unwrap();
-    let m = wire(&m.data);
-    assert!(
-        m.iter()
-            .any(|(f, w)| *f == 4 && matches!(w, Wire::Bytes(b) if *b == b"attitude")),
-        "{m:?}"
-    );
+    values_match_the_samples(&bytes, &out);
     std::fs::remove_dir_all(dir).ok();
 }
 
