@@ -207,11 +207,11 @@ fn run_or_told(
     match run(s) {
         Ok(o) => Ok(Some(o)),
         Err(e) if s.integrator.kind == "euler" => {
-            let msg = e.to_string();
+            let named = matches!(e, SimError::Step { t, .. } if t.is_finite());
             r.holds(
                 case,
-                format!("{name}: {why}; the run says so: {msg}"),
-                msg.contains("t = "),
+                format!("{name}: {why}; the run says so: {e}"),
+                named,
                 "an unstable stepper must end in a clear error naming the time, not a silent answer",
             );
             Ok(None)
@@ -860,27 +860,46 @@ fn non_finite(r: &mut Report, _quick: bool, dir: &Path) -> Result<(), String> {
         result.is_err(),
         "a NaN reference must not fly on",
     );
+    // What went wrong, from the error's variant and fields; then that the
+    // message the user reads shows the same.
+    let (field, t_err) = match &result {
+        Err(SimError::Step {
+            t,
+            control: Some(controllers::ControlError::NonFiniteReference { field }),
+            ..
+        }) => (Some(*field), Some(*t)),
+        _ => (None, None),
+    };
     r.holds(
         "non-finite",
-        format!("the error names the field (`reference.x`): {message:?}"),
-        message.contains("reference.x"),
+        format!("the error is the reference's and names the field (`reference.x`): {field:?}"),
+        field == Some("reference.x"),
         "the user must learn which input went bad",
     );
-    let t_named = message
-        .split("t = ")
-        .nth(1)
-        .and_then(|r| r.split([' ', ':', ',']).next())
-        .and_then(|v| v.parse::<f64>().ok());
     r.holds(
         "non-finite",
-        format!("the error names the time, within one step of {T_BAD} s: {t_named:?}"),
-        t_named.is_some_and(|t| (t - T_BAD).abs() <= 1e-3 + 1e-12),
+        format!("the error names the time, within one step of {T_BAD} s: {t_err:?}"),
+        t_err.is_some_and(|t| (t - T_BAD).abs() <= 1e-3 + 1e-12),
         "the user must learn when it went bad",
+    );
+    let shown = t_err
+        .is_some_and(|t| shows(&message, "reference.x") && shows(&message, &format!("t = {t}")));
+    r.holds(
+        "non-finite",
+        format!("the message shows the field and the time: {message:?}"),
+        shown,
+        "the typed error reaches the user as a sentence",
     );
     // Read both files back.
     let (n, t_last) = csv_read_back(r, &csv_path, rows, T_BAD)?;
     mcap_read_back(r, &mcap_path, messages, n, t_last)?;
     Ok(())
+}
+
+/// Whether a message shown to the user contains `what` (a check of the
+/// message itself; nothing is decided from it).
+fn shows(text: &str, what: &str) -> bool {
+    text.contains(what)
 }
 
 /// The non-finite case's CSV, read back: whole rows, increasing times, as
