@@ -87,7 +87,11 @@ ReturnToService=2
 NodeName=$node CPUs=$cpus State=UNKNOWN
 PartitionName=ci Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
-echo "CgroupPlugin=disabled" > /etc/slurm/cgroup.conf
+# slurmd loads a cgroup plugin whatever the proctrack and task plugins
+# are (22.05 has no "disabled"): the v1 hierarchy when it is mounted (as in
+# this machine's containers), else v2; nothing is constrained.
+if [[ -d /sys/fs/cgroup/freezer ]]; then cg=cgroup/v1; else cg=cgroup/v2; fi
+printf 'CgroupPlugin=%s\nCgroupMountpoint=/sys/fs/cgroup\nConstrainCores=no\nConstrainRAMSpace=no\nConstrainDevices=no\n' "$cg" > /etc/slurm/cgroup.conf
 pkill -x slurmctld 2>/dev/null || true
 pkill -x slurmd 2>/dev/null || true
 sleep 1
