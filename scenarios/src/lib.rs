@@ -56,6 +56,7 @@ pub mod metrics;
 pub mod montecarlo;
 pub mod output;
 pub mod reference;
+pub mod regress;
 pub mod scene;
 mod sim;
 

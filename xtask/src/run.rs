@@ -208,12 +208,8 @@ pub fn apply(mut scene: Scene, a: &RunArgs) -> Result<Scene, String> {
     Ok(scene)
 }
 
-/// Runs with a progress bar on long runs (hidden when not on a terminal).
-pub fn run_scene(scene: &Scene, record: bool) -> Result<RunOutput, String> {
-    run_scene_with(scene, record, None, None).map_err(|e| format!("{}: {e}", scene.name))
-}
-
-/// [`run_scene`] streaming to `sink` and stopping when `cancel` is set.
+/// Runs `scene` with a progress bar on long runs (hidden when not on a
+/// terminal), streaming to `sink` and stopping when `cancel` is set.
 pub fn run_scene_with(
     scene: &Scene,
     record: bool,
