@@ -59,6 +59,7 @@ pub mod reference;
 pub mod regress;
 pub mod scene;
 mod sim;
+pub mod stress;
 
 pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
 pub use scene::{Scene, SceneError};

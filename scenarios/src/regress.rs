@@ -30,8 +30,8 @@ pub struct Check {
     pub why: &'static str,
 }
 
-/// Why the suite could not measure something.
-#[derive(Clone, Debug, PartialEq)]
+/// Why a suite (this one, [`crate::stress`]) could not measure something.
+#[derive(Debug)]
 pub enum SuiteError {
     /// A scene did not run.
     Run {
@@ -47,6 +47,15 @@ pub enum SuiteError {
         /// What was missing.
         what: &'static str,
     },
+    /// A file the suite writes could not be written.
+    Output(crate::output::OutputError),
+    /// A file the suite wrote could not be read back.
+    Read {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
 }
 
 impl std::fmt::Display for SuiteError {
@@ -54,6 +63,8 @@ impl std::fmt::Display for SuiteError {
         match self {
             SuiteError::Run { scene, source } => write!(f, "{scene}: {source}"),
             SuiteError::Missing { scene, what } => write!(f, "{scene}: {what}"),
+            SuiteError::Output(e) => write!(f, "{e}"),
+            SuiteError::Read { path, source } => write!(f, "{}: {source}", path.display()),
         }
     }
 }
@@ -63,6 +74,8 @@ impl std::error::Error for SuiteError {
         match self {
             SuiteError::Run { source, .. } => Some(source),
             SuiteError::Missing { .. } => None,
+            SuiteError::Output(e) => Some(e),
+            SuiteError::Read { source, .. } => Some(source.as_ref()),
         }
     }
 }
