@@ -8,14 +8,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use controllers::ModeOutput;
-use controllers::gain_check::lambda_plus;
-use dynamics::RigidBodyState;
-use lie::{GlamF64, Real};
+use scenarios::Scene;
 use scenarios::montecarlo::{
     DIVERGED_OMEGA, DIVERGED_X, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup, Summary,
 };
-use scenarios::{RunOptions, Scene, Simulation, builtin};
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -562,103 +558,50 @@ pub fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), String> {
     finish(&dir, &setup, &rows, None)
 }
 
-/// `cargo xtask montecarlo near-pi`.
-///
-/// Near the rotation by π about a principal axis `a` (moment of inertia
-/// `J`), with R_d = I, Ω_d = 0 and no disturbance, the motion stays a
-/// rotation about `a` by an angle θ: `e_R = sin θ a`, `e_Ω = θ̇ a`, and the
-/// law (eqn:aM) with (eqn:eI) reads
-/// `J θ̈ = −k_R sin θ − k_Ω θ̇ − k_I e_I`, `ė_I = θ̇ + c2 sin θ`.
-/// With θ = π − φ, sin θ ≈ φ, and Laplace transforms,
-/// `J s² Φ = k_R Φ − k_Ω s Φ + k_I E`, `s E = (c2 − s) Φ`, so
-/// `J s³ + k_Ω s² + (k_I − k_R) s − k_I c2 = 0`: a third-order system whose
-/// one positive root λ₊ drives φ(t) ≈ c δ e^{λ₊ t} away from π. The time to
-/// reach any fixed Ψ grows as `ln(1/δ)/λ₊` plus a constant, so the slope of
-/// t_converge against ln(1/δ) is 1/λ₊.
+/// `cargo xtask montecarlo near-pi`: the escape time from near π against
+/// `ln(1/δ)/λ₊` (`scenarios::montecarlo::near_pi`), `near-pi.csv`, and a
+/// failure when the fitted slope and 1/λ₊ differ by more than 1 %.
 pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
-    type B = GlamF64;
     let dir = out.map_or_else(
         || crate::workspace_root().join("target/montecarlo"),
         Path::to_path_buf,
     );
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let base = builtin::large_attitude_error();
-    let g = &base.gains;
+    let report = scenarios::montecarlo::near_pi().map_err(|e| e.to_string())?;
     let mut csv = String::from("axis,delta,t_converge\n");
-    let mut report = Vec::new();
-    for (axis_name, axis, jk) in [("e1", [1.0, 0.0, 0.0], 0), ("e3", [0.0, 0.0, 1.0], 2)] {
-        let j = base.vehicle.inertia[jk];
-        let lam = lambda_plus(j, g.k_r, g.k_omega, g.k_att_i, g.c2);
-        let mut pts = Vec::new();
-        for k in 1..=10 {
-            let delta = 10f64.powi(-k);
-            let mut sc = base.clone();
-            sc.disturbance = None;
-            sc.initial = Default::default();
-            let th = std::f64::consts::PI - delta;
-            sc.initial.rotation = axis.map(|c: f64| c * th);
-            sc.integrator.kind = "rk4".into();
-            sc.integrator.dt = 1e-3;
-            sc.duration = 60.0;
-            let vehicle = scenarios::build_vehicle::<B>(&sc).map_err(|e| e.to_string())?;
-            let plan = scenarios::plan::<B>(&sc, vehicle.as_ref());
-            let mut body = RigidBodyState::<B>::at_rest();
-            body.r =
-                lie::ops::from_elems::<B>(scenarios::reference::rotation_f64(sc.initial.rotation));
-            let stop = Box::new(|_: f64, _: &RigidBodyState<B>, o: &ModeOutput<B>| {
-                o.psi.to_f64_lossless() < 1e-3
-            });
-            let mut b = Simulation::<B, 6>::builder(vehicle)
-                .initial(body)
-                .dt(sc.integrator.dt)
-                .duration(sc.duration)
-                .record_every(0.0)
-                .stop_when(stop);
-            for seg in plan {
-                b = b.segment(seg);
+    for a in &report {
+        for (delta, t) in &a.times {
+            if t.is_nan() {
+                return Err(format!(
+                    "near-pi {} δ = {delta:e}: Ψ never dropped below 1e-3 in 60 s",
+                    a.axis
+                ));
             }
-            let out = b
-                .build()
-                .map_err(|e| e.to_string())?
-                .run(RunOptions {
-                    record: false,
-                    ..Default::default()
-                })
-                .map_err(|e| e.to_string())?;
-            let t = out.stopped_at().ok_or_else(|| {
-                format!("near-pi {axis_name} δ = {delta:e}: Ψ never dropped below 1e-3 in 60 s")
-            })?;
-            let _ = writeln!(csv, "{axis_name},{delta:e},{t}");
-            pts.push(((1.0 / delta).ln(), t));
+            let _ = writeln!(csv, "{},{delta:e},{t}", a.axis);
         }
-        // Least squares over k = 4 … 10.
-        let fit: Vec<(f64, f64)> = pts[3..].to_vec();
-        let n = fit.len() as f64;
-        let (sx, sy) = fit.iter().fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
-        let (mx, my) = (sx / n, sy / n);
-        let (sxy, sxx) = fit.iter().fold((0.0, 0.0), |(a, b), p| {
-            (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx).powi(2))
-        });
-        let slope = sxy / sxx;
-        report.push((axis_name, j, lam, slope, pts));
     }
     write_atomic(&dir.join("near-pi.csv"), csv.as_bytes())?;
     println!(
         "time to Ψ < 1e-3 from R(0) = exp((π − δ) â), attitude mode, paper gains, no disturbance:"
     );
     let mut worst = 0.0f64;
-    for (axis, j, lam, slope, pts) in &report {
-        let t: Vec<String> = pts.iter().map(|p| format!("{:.3}", p.1)).collect();
+    for a in &report {
+        let t: Vec<String> = a.times.iter().map(|p| format!("{:.3}", p.1)).collect();
         println!(
-            "  a = {axis} (J = {j}): t_converge for δ = 1e-1 … 1e-10: {}",
+            "  a = {} (J = {}): t_converge for δ = 1e-1 … 1e-10: {}",
+            a.axis,
+            a.j,
             t.join(", ")
         );
-        let rel = (slope * lam - 1.0).abs();
+        let rel = (a.slope * a.lambda - 1.0).abs();
         worst = worst.max(rel);
         println!(
-            "  a = {axis}: slope of t_converge against ln(1/δ) over k = 4…10: {slope:.5} s; 1/λ₊ = {:.5} s (λ₊ = {lam:.5} /s); ratio {:.5}",
-            1.0 / lam,
-            slope * lam
+            "  a = {}: slope of t_converge against ln(1/δ) over k = 4…10: {:.5} s; 1/λ₊ = {:.5} s (λ₊ = {:.5} /s); ratio {:.5}",
+            a.axis,
+            a.slope,
+            1.0 / a.lambda,
+            a.lambda,
+            a.slope * a.lambda
         );
     }
     println!("wrote {}", dir.join("near-pi.csv").display());

@@ -64,11 +64,13 @@
 //! ```
 
 mod experiments;
+mod near_pi;
 
 pub use experiments::{
     DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup,
     parse_samples, write_samples,
 };
+pub use near_pi::{NearPiAxis, near_pi};
 pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
 
