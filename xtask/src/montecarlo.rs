@@ -9,9 +9,15 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use scenarios::Scene;
-use scenarios::montecarlo::{
-    DIVERGED_OMEGA, DIVERGED_X, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup, Summary,
-};
+use scenarios::montecarlo::{Initial, Outcome, SAMPLES_HEADER, Setup};
+
+mod files;
+mod report;
+
+pub use files::merge;
+use files::{default_out, parse_shard, write_atomic, write_run_json, write_samples, write_shard};
+use report::print_summary;
+pub use report::summarize;
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -184,26 +190,6 @@ fn default_args() -> McArgs {
     P::parse_from(["montecarlo"]).a
 }
 
-/// `K/N`.
-fn parse_shard(s: &str) -> Result<(u64, u64), String> {
-    let bad = || format!("--shard {s}: expected K/N with 0 ≤ K < N");
-    let (k, n) = s.split_once('/').ok_or_else(bad)?;
-    let (k, n) = (
-        k.trim().parse::<u64>().map_err(|_| bad())?,
-        n.trim().parse::<u64>().map_err(|_| bad())?,
-    );
-    if n == 0 || k >= n {
-        return Err(bad());
-    }
-    Ok((k, n))
-}
-
-fn default_out(experiment: &str) -> PathBuf {
-    crate::workspace_root()
-        .join("target/montecarlo")
-        .join(experiment)
-}
-
 /// Runs the indices of a shard on `threads` threads; results in index
 /// order.
 pub fn run_indices(
@@ -220,119 +206,6 @@ pub fn run_indices(
     setup
         .run(indices, Some(threads), Some(&report))
         .map_err(|e| e.to_string())
-}
-
-fn write_samples(dir: &Path, rows: &[Outcome]) -> Result<(), String> {
-    let text = scenarios::montecarlo::write_samples(rows);
-    write_atomic(&dir.join("samples.csv"), text.as_bytes())
-}
-
-/// Writes `<path>.partial`, then renames it.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let mut tmp = path.as_os_str().to_os_string();
-    tmp.push(".partial");
-    std::fs::write(&tmp, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn read_samples(dir: &Path) -> Result<Vec<Outcome>, String> {
-    let path = dir.join("samples.csv");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    scenarios::montecarlo::parse_samples(&text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// The summary of a complete run (all indices present).
-pub fn summarize(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> serde_json::Value {
-    let n = rows.len();
-    let sum = Summary::from_rows(rows.iter().map(|r| (r.status, r.t_converge, r.steps)));
-    let steps = sum.integrator_steps;
-    let mut slow: Vec<&Outcome> = rows.iter().collect();
-    // Not converged first, then by time to converge, slowest first.
-    slow.sort_by(|a, b| {
-        b.converged
-            .cmp(&a.converged)
-            .reverse()
-            .then(b.t_converge.total_cmp(&a.t_converge))
-            .then(a.index.cmp(&b.index))
-    });
-    let slowest: Vec<serde_json::Value> = slow
-        .iter()
-        .take(5)
-        .map(|r| {
-            serde_json::json!({
-                "index": r.index, "converged": r.converged, "status": r.status.name(), "t_converge": r.t_converge,
-                "angle_deg": r.angle.to_degrees(), "axis": r.axis, "omega0": r.omega0, "ex0": r.ex0,
-                "command": format!("cargo xtask montecarlo {} --index {}", flags(setup), r.index),
-            })
-        })
-        .collect();
-    let mut v = serde_json::json!({
-        "setup": setup,
-        "samples": n,
-        "converged": sum.converged,
-        "deadline": sum.deadline,
-        "diverged": sum.diverged,
-        "errors": sum.errors,
-        "converged_fraction": sum.converged_fraction,
-        "t_converge": sum.t_converge,
-        "largest_angle_deg": rows.iter().map(|r| r.angle).fold(0.0, f64::max).to_degrees(),
-        "max_rotor_thrust": rows.iter().map(|r| r.max_rotor).fold(0.0, f64::max),
-        "integrator_steps": steps,
-        "slowest": slowest,
-    });
-    if let Some(w) = wall {
-        v["wall_s"] = serde_json::json!(w);
-        v["samples_per_s"] = serde_json::json!(n as f64 / w);
-        v["ns_per_step"] = serde_json::json!(w * 1e9 / steps.max(1) as f64);
-    }
-    v
-}
-
-fn print_summary(s: &serde_json::Value) {
-    let f = |p: &str| s.pointer(p).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
-    println!(
-        "{} samples, {} converged ({:.4} %); largest initial angle {:.3}°",
-        s["samples"],
-        s["converged"],
-        100.0 * f("/converged_fraction"),
-        f("/largest_angle_deg"),
-    );
-    println!(
-        "not converged: {} at the deadline, {} diverged (|Ω| > {DIVERGED_OMEGA} rad/s, ‖e_x‖ > {DIVERGED_X} m, or more than {MAX_SUBSTEPS} substeps in one dopri call), {} integrator errors",
-        s["deadline"], s["diverged"], s["errors"]
-    );
-    println!(
-        "time to converge: median {:.3} s, 95th {:.3} s, 99th {:.3} s, worst {:.3} s",
-        f("/t_converge/median"),
-        f("/t_converge/p95"),
-        f("/t_converge/p99"),
-        f("/t_converge/worst")
-    );
-    if let Some(w) = s.get("wall_s").and_then(|v| v.as_f64()) {
-        println!(
-            "wall {w:.2} s: {:.0} samples/s, {:.0} ns per integrator step ({} steps)",
-            f("/samples_per_s"),
-            f("/ns_per_step"),
-            s["integrator_steps"]
-        );
-    }
-    println!("slowest samples:");
-    for r in s["slowest"].as_array().into_iter().flatten() {
-        println!(
-            "  #{:<6} {}, t = {:.3} s, from {:.2}° (axis {:.3?}), |Ω(0)| = {:.3}, ‖e_x(0)‖ = {:.3}\n          {}",
-            r["index"],
-            r["status"].as_str().unwrap_or("?"),
-            r["t_converge"].as_f64().unwrap_or(f64::NAN),
-            r["angle_deg"].as_f64().unwrap_or(f64::NAN),
-            r["axis"]
-                .as_array()
-                .map(|a| a.iter().filter_map(|x| x.as_f64()).collect::<Vec<_>>())
-                .unwrap_or_default(),
-            r["omega0"].as_f64().unwrap_or(f64::NAN),
-            r["ex0"].as_f64().unwrap_or(f64::NAN),
-            r["command"].as_str().unwrap_or(""),
-        );
-    }
 }
 
 /// Writes samples.csv, summary.json, the figures and the worst sample's
@@ -480,82 +353,6 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
     }
     write_run_json(&dir, &setup, (k, n))?;
     finish(&dir, &setup, &rows, Some(wall))
-}
-
-fn write_run_json(dir: &Path, setup: &Setup, shard: (u64, u64)) -> Result<(), String> {
-    let run = serde_json::json!({"setup": setup, "shard": [shard.0, shard.1]});
-    write_atomic(
-        &dir.join("run.json"),
-        serde_json::to_string_pretty(&run)
-            .map_err(|e| e.to_string())?
-            .as_bytes(),
-    )
-}
-
-/// A shard's directory: `run.json` (the setup and `[K, N]`) and its rows
-/// of `samples.csv`, what `merge` reads.
-fn write_shard(
-    dir: &Path,
-    setup: &Setup,
-    shard: (u64, u64),
-    rows: &[Outcome],
-) -> Result<(), String> {
-    write_run_json(dir, setup, shard)?;
-    write_samples(dir, rows)
-}
-
-/// `cargo xtask montecarlo merge DIR...`.
-pub fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), String> {
-    let mut setup: Option<Setup> = None;
-    let mut shards = Vec::new();
-    let mut rows = Vec::new();
-    for d in dirs {
-        let p = d.join("run.json");
-        let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let v: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
-        let s: Setup = serde_json::from_value(v["setup"].clone())
-            .map_err(|e| format!("{}: setup: {e}", p.display()))?;
-        let shard = (v["shard"][0].as_u64(), v["shard"][1].as_u64());
-        match &setup {
-            None => setup = Some(s),
-            Some(s0) if *s0 != s => {
-                return Err(format!(
-                    "{}: a different run (setup differs from {}'s)",
-                    d.display(),
-                    dirs[0].display()
-                ));
-            }
-            _ => {}
-        }
-        shards.push(shard);
-        rows.extend(read_samples(d)?);
-    }
-    let setup = setup.ok_or("merge: no directories")?;
-    rows.sort_by_key(|r| r.index);
-    for (k, r) in rows.iter().enumerate() {
-        if r.index != k as u64 {
-            return Err(format!(
-                "merge: sample {} is {} (shards {shards:?})",
-                k,
-                if r.index > k as u64 {
-                    "missing"
-                } else {
-                    "duplicated"
-                }
-            ));
-        }
-    }
-    if rows.len() as u64 != setup.samples {
-        return Err(format!(
-            "merge: {} of {} samples present (shards {shards:?})",
-            rows.len(),
-            setup.samples
-        ));
-    }
-    let dir = out.map_or_else(|| default_out(&setup.experiment), Path::to_path_buf);
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    finish(&dir, &setup, &rows, None)
 }
 
 /// `cargo xtask montecarlo near-pi`: the escape time from near π against

@@ -3,13 +3,19 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-use signal_hook::consts::{SIGINT, SIGTERM};
 
 use scenarios::scene::{BackendKind, Scalar, Timing};
 use scenarios::{RunOptions, RunOutput, Sample, Scene, SimError, SwitchRecord, builtin, output};
+
+mod outputs;
+mod report;
+mod signals;
+
+pub use outputs::{check_outputs, is_stdout};
+pub use report::{health_warnings, summary};
+use signals::install_signal_flags;
+pub use signals::{EXIT_SIGINT, EXIT_SIGPIPE, EXIT_SIGTERM};
 
 /// Options of `cargo xtask run`.
 #[derive(clap::Args, Debug)]
@@ -70,88 +76,6 @@ pub struct RunArgs {
     /// an error (exit 1).
     #[arg(long)]
     pub strict: bool,
-}
-
-/// Checks the output paths before anything runs, so that no bad path is
-/// found only after the run: each is a new file in an existing, writable
-/// directory, a regular file (replaced when the run ends) or a stream
-/// (`/dev/null`, a pipe: written in place); never a directory, a dangling
-/// link, the scene file (also through a symlink), or both outputs at once.
-/// The `--plot` directory is created now and must be writable.
-pub fn check_outputs(
-    csv: Option<&Path>,
-    mcap: Option<&Path>,
-    plot: Option<&Path>,
-    scene_file: Option<&Path>,
-) -> Result<(), String> {
-    // The absolute form of a path: itself canonicalised when it exists
-    // (through any symlink), else its directory canonicalised and its name.
-    // `None` for a stream: two outputs to `/dev/null` are fine, and a pipe
-    // behind `/dev/stdout` has no path to compare.
-    let resolve = |opt: &str, p: &Path| -> Result<Option<PathBuf>, String> {
-        let kind = output::classify_output(p).map_err(|e| format!("{opt}: {e}"))?;
-        if kind == output::PathKind::Stream {
-            return Ok(None);
-        }
-        let name = p
-            .file_name()
-            .ok_or_else(|| format!("{opt} {}: not a file name", p.display()))?;
-        let dir = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        let dir = dir
-            .canonicalize()
-            .map_err(|e| format!("{opt} {}: directory {}: {e}", p.display(), dir.display()))?;
-        probe_writable(&dir).map_err(|e| format!("{opt} {}: {e}", p.display()))?;
-        if kind == output::PathKind::Regular {
-            return p
-                .canonicalize()
-                .map(Some)
-                .map_err(|e| format!("{opt} {}: {e}", p.display()));
-        }
-        Ok(Some(dir.join(name)))
-    };
-    let c = csv.map(|p| resolve("--csv", p)).transpose()?.flatten();
-    let m = mcap.map(|p| resolve("--mcap", p)).transpose()?.flatten();
-    if let (Some(c), Some(m)) = (&c, &m)
-        && c == m
-    {
-        return Err(format!(
-            "--csv and --mcap are the same file ({}): one would overwrite the other",
-            c.display()
-        ));
-    }
-    if let Some(scene) = scene_file.and_then(|s| s.canonicalize().ok()) {
-        for (opt, p) in [("--csv", &c), ("--mcap", &m)] {
-            if p.as_ref() == Some(&scene) {
-                return Err(format!(
-                    "{opt} {} is the scene file itself",
-                    scene.display()
-                ));
-            }
-        }
-    }
-    if let Some(dir) = plot {
-        if dir.exists() && !dir.is_dir() {
-            return Err(format!(
-                "--plot {}: exists and is not a directory",
-                dir.display()
-            ));
-        }
-        std::fs::create_dir_all(dir).map_err(|e| format!("--plot {}: {e}", dir.display()))?;
-        probe_writable(dir).map_err(|e| format!("--plot {}: {e}", dir.display()))?;
-    }
-    Ok(())
-}
-
-/// Creates and removes a probe file in `dir`: permission bits alone do not
-/// tell (root ignores them, a read-only mount does not show in them).
-fn probe_writable(dir: &Path) -> Result<(), String> {
-    let probe = dir.join(format!(".gpid-write-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|e| format!("cannot write in {}: {e}", dir.display()))?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
 }
 
 /// Steps a run takes (fixed steps; dopri's calls), for the guard against
@@ -273,91 +197,6 @@ pub fn run_scene_with(
     Ok(out)
 }
 
-/// The run's health warnings ([`RunOutput::health`]), with what to change
-/// on the command line.
-pub fn health_warnings(out: &RunOutput) -> Vec<String> {
-    out.health()
-        .iter()
-        .map(|h| match h {
-            scenarios::Health::OffGroup { .. } => format!(
-                "{h}; use a smaller --dt or a stepper that stays on the group (rk4-projected, rkmk4, lgvi)"
-            ),
-            _ => h.to_string(),
-        })
-        .collect()
-}
-
-/// Prints the end-of-run summary.
-pub fn summary(w: &mut dyn std::io::Write, scene: &Scene, out: &RunOutput) -> std::io::Result<()> {
-    let l = &out.last;
-    writeln!(
-        w,
-        "{} — {} s with {} (dt {}{}), {:?}/{:?}, {} control",
-        scene.name,
-        scene.duration,
-        scene.integrator.kind,
-        scene.integrator.dt,
-        if scene.integrator.kind == "dopri" {
-            format!(", tol {}", scene.integrator.tol)
-        } else {
-            String::new()
-        },
-        scene.scalar,
-        scene.backend,
-        match scene.control.timing {
-            Timing::Continuous => "continuous".to_string(),
-            Timing::Sampled => format!("sampled {} Hz", scene.control.rate),
-        }
-    )?;
-    writeln!(
-        w,
-        "  final: Ψ = {:.3e}, ‖e_x‖ = {:.3e} m, |Ω| = {:.3e} rad/s, e_I = {:?}, e_i = {:?}",
-        l.psi,
-        l.ex,
-        (l.omega.iter().map(|c| c * c).sum::<f64>()).sqrt(),
-        l.e_att.map(|c| (c * 1e4).round() / 1e4),
-        l.e_pos.map(|c| (c * 1e4).round() / 1e4),
-    )?;
-    writeln!(
-        w,
-        "  max over every step: thrust {:.3} N, rotor thrust {:.3} N; {} switches, {} located sat′ events",
-        out.max_thrust,
-        out.max_rotor,
-        out.switches.len(),
-        out.events
-    )?;
-    writeln!(
-        w,
-        "  health over every step: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
-        out.max_orthogonality_error, out.psi_range.0, out.psi_range.1
-    )?;
-    if !out.event_times.is_empty() {
-        let ev: Vec<String> = out
-            .event_times
-            .iter()
-            .map(|(t, k)| format!("e_i{} at {t:.9} s", k + 1))
-            .collect();
-        writeln!(w, "  sat′ events: {}", ev.join(", "))?;
-    }
-    let sps = out.steps as f64 / out.wall.max(1e-9);
-    writeln!(
-        w,
-        "  {} steps, {} evaluations, wall {:.3} s, {:.0} steps/s",
-        out.steps, out.evaluations, out.wall, sps
-    )?;
-    Ok(())
-}
-
-/// Whether `p` is the file behind this process's standard output (the
-/// same device and inode), e.g. `/dev/stdout` or `/proc/self/fd/1`.
-fn is_stdout(p: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (std::fs::metadata(p), std::fs::metadata("/proc/self/fd/1")) {
-        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
-        _ => false,
-    }
-}
-
 /// Remembers the time of the last sample handed on, so that a run ended
 /// by an error can say up to where its files hold.
 struct LastTime<'a> {
@@ -378,15 +217,6 @@ impl output::Sink for LastTime<'_> {
     }
 }
 
-/// The exit status of a run stopped by a signal: 128 + its number, as a
-/// shell reports it.
-pub const EXIT_SIGINT: u8 = 130;
-/// See [`EXIT_SIGINT`].
-pub const EXIT_SIGTERM: u8 = 143;
-/// The status of a run whose output pipe was closed by its reader (128 +
-/// SIGPIPE), as `yes | head` reports it.
-pub const EXIT_SIGPIPE: u8 = 141;
-
 /// Refuses a run of more than 10⁹ steps, saying how long it would take.
 fn refuse_huge(scene: &Scene) -> Result<(), String> {
     let steps = estimated_steps(scene);
@@ -406,32 +236,6 @@ fn refuse_huge(scene: &Scene) -> Result<(), String> {
         "{}: {steps:.2e} steps ({} s at dt = {} s), about {took} at 1 µs a step; pass --yes to run it anyway",
         scene.name, scene.duration, scene.integrator.dt
     ))
-}
-
-/// The flags SIGINT and SIGTERM set: `cancel` (either), and which one.
-type SignalFlags = (Arc<AtomicBool>, Arc<AtomicBool>, Arc<AtomicBool>);
-
-/// SIGINT and SIGTERM set `cancel` (and say which); the loop stops at the
-/// current step and the files are closed. A second signal while the first
-/// is being handled ends the process at once.
-fn install_signal_flags() -> Result<SignalFlags, String> {
-    let cancel = Arc::new(AtomicBool::new(false));
-    let by_int = Arc::new(AtomicBool::new(false));
-    let by_term = Arc::new(AtomicBool::new(false));
-    for (sig, which) in [(SIGINT, &by_int), (SIGTERM, &by_term)] {
-        let reg = |r: std::io::Result<signal_hook::SigId>| {
-            r.map(|_| ())
-                .map_err(|e| format!("installing the signal handler: {e}"))
-        };
-        reg(signal_hook::flag::register_conditional_shutdown(
-            sig,
-            128 + sig,
-            Arc::clone(&cancel),
-        ))?;
-        reg(signal_hook::flag::register(sig, Arc::clone(&cancel)))?;
-        reg(signal_hook::flag::register(sig, Arc::clone(which)))?;
-    }
-    Ok((cancel, by_int, by_term))
 }
 
 /// How a run ended, for its outputs and its exit status: the warnings
@@ -633,65 +437,6 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn output_paths_are_checked_before_running() {
-        let dir = std::env::temp_dir().join(format!("gpid-run-paths-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let csv = dir.join("a.csv");
-        let mcap = dir.join("a.mcap");
-        assert!(check_outputs(Some(&csv), Some(&mcap), None, None).is_ok());
-        // Same file twice, spelled differently.
-        let same = dir.join(".").join("a.csv");
-        let e = check_outputs(Some(&csv), Some(&same), None, None).unwrap_err();
-        assert!(e.contains("same file"), "{e}");
-        // A missing directory is named with the option.
-        let e =
-            check_outputs(Some(&dir.join("nodir").join("x.csv")), None, None, None).unwrap_err();
-        assert!(e.starts_with("--csv") && e.contains("nodir"), "{e}");
-        // The scene file is not an output.
-        let scene = dir.join("s.toml");
-        std::fs::write(&scene, "x").unwrap();
-        let e = check_outputs(None, Some(&scene), None, Some(&scene)).unwrap_err();
-        assert!(e.contains("scene file"), "{e}");
-        // ... nor through a symlink to it.
-        std::os::unix::fs::symlink(&scene, dir.join("link.csv")).unwrap();
-        let e = check_outputs(Some(&dir.join("link.csv")), None, None, Some(&scene)).unwrap_err();
-        assert!(e.starts_with("--csv") && e.contains("scene file"), "{e}");
-        // A directory is not an output file.
-        let e = check_outputs(None, Some(&dir), None, None).unwrap_err();
-        assert!(
-            e.starts_with("--mcap") && e.contains("is a directory"),
-            "{e}"
-        );
-        // Two streams to the same sink are fine (`/dev/null` twice).
-        let null = std::path::Path::new("/dev/null");
-        assert!(check_outputs(Some(null), Some(null), None, None).is_ok());
-        // --plot: a file in the way, or a place that cannot be created.
-        let e = check_outputs(None, None, Some(&scene), None).unwrap_err();
-        assert!(
-            e.starts_with("--plot") && e.contains("not a directory"),
-            "{e}"
-        );
-        let e = check_outputs(None, None, Some(Path::new("/proc/gpid-figs")), None).unwrap_err();
-        assert!(e.starts_with("--plot"), "{e}");
-        std::fs::remove_dir_all(&dir).ok();
-    }
-
-    /// The CLI adds what to change to the library's health finding.
-    #[test]
-    fn health_warnings_say_what_to_change() {
-        let mut s = scenarios::builtin::paper_flip();
-        s.integrator.kind = "euler".into();
-        s.integrator.dt = 0.002;
-        let out = scenarios::run(&s, Default::default()).unwrap();
-        assert!(matches!(
-            out.health()[..],
-            [scenarios::Health::OffGroup { .. }]
-        ));
-        let w = health_warnings(&out);
-        assert!(w[0].ends_with("(rk4-projected, rkmk4, lgvi)"), "{w:?}");
-    }
 
     #[test]
     fn absurd_step_counts_are_refused_without_yes() {
