@@ -92,6 +92,45 @@ impl GainReport {
     pub fn all_hold(&self) -> bool {
         self.conditions.iter().all(|c| c.holds)
     }
+
+    /// Each condition as `ln(value/bound)` oriented so that positive means
+    /// it holds (a log ratio does not flatten out far from the bound, as a
+    /// relative margin does): what a gain search maximises the worst of.
+    /// (eqn:kRkWb) with `λm(W1) ≤ 0` or `λm(W2) ≤ 0` scores below −10,
+    /// increasing towards positive eigenvalues, so a search makes them
+    /// positive first.
+    pub fn log_margins(&self) -> [f64; 4] {
+        let [c2, kis, c1, w] = self.conditions;
+        let ln_ratio = |big: f64, small: f64| {
+            if big > 0.0 && small > 0.0 {
+                (big / small).ln()
+            } else {
+                -10.0 - (big - small).abs().min(1e6).ln_1p()
+            }
+        };
+        let wscore = if self.lambda_min_w1 > 0.0 && w.value > 0.0 && w.bound.is_finite() {
+            (w.value / w.bound).ln()
+        } else {
+            -10.0 - self.lambda_min_w1.min(0.0).abs().ln_1p() - w.value.min(0.0).abs().ln_1p()
+        };
+        [
+            ln_ratio(c2.bound, c2.value),
+            ln_ratio(kis.value, kis.bound.max(1e-9)),
+            ln_ratio(c1.bound, c1.value),
+            wscore,
+        ]
+    }
+
+    /// The worst of [`GainReport::log_margins`] and its condition's index.
+    pub fn worst_log_margin(&self) -> (f64, usize) {
+        self.log_margins()
+            .iter()
+            .enumerate()
+            .fold(
+                (f64::INFINITY, 0),
+                |(v, k), (i, &x)| if x < v { (x, i) } else { (v, k) },
+            )
+    }
 }
 
 impl core::fmt::Display for GainReport {

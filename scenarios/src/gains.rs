@@ -234,41 +234,6 @@ fn from_vec(base: &GainsSpec, p: &[f64; 9]) -> GainsSpec {
     }
 }
 
-/// Each condition as `ln(value/bound)` oriented so that positive means it
-/// holds (a log ratio does not flatten out far from the bound, as a
-/// relative margin does), and the worst (the score). (eqn:kRkWb) with
-/// `λm(W1) ≤ 0` or `λm(W2) ≤ 0` scores below −10, increasing towards
-/// positive eigenvalues, so the search makes them positive first.
-pub fn scores(r: &GainReport) -> [f64; 4] {
-    let [c2, kis, c1, w] = r.conditions;
-    let ln_ratio = |big: f64, small: f64| {
-        if big > 0.0 && small > 0.0 {
-            (big / small).ln()
-        } else {
-            -10.0 - (big - small).abs().min(1e6).ln_1p()
-        }
-    };
-    let wscore = if r.lambda_min_w1 > 0.0 && w.value > 0.0 && w.bound.is_finite() {
-        (w.value / w.bound).ln()
-    } else {
-        -10.0 - r.lambda_min_w1.min(0.0).abs().ln_1p() - w.value.min(0.0).abs().ln_1p()
-    };
-    [
-        ln_ratio(c2.bound, c2.value),
-        ln_ratio(kis.value, kis.bound.max(1e-9)),
-        ln_ratio(c1.bound, c1.value),
-        wscore,
-    ]
-}
-
-/// The worst score and its condition's index.
-pub fn worst(s: &[f64; 4]) -> (f64, usize) {
-    s.iter().enumerate().fold(
-        (f64::INFINITY, 0),
-        |(v, k), (i, &x)| if x < v { (x, i) } else { (v, k) },
-    )
-}
-
 /// The scene flown with `g`: peak rotor thrust and the run (None when it
 /// diverges). The step shrinks with the attitude gains so that RK4 stays
 /// stable (|λ| h ≲ 1 for the fastest linear mode, k_Ω/λm(J)).
@@ -386,7 +351,7 @@ pub fn nelder_mead(
     best
 }
 
-/// The condition labels in the order of [`scores`].
+/// The condition labels in the order of [`GainReport::log_margins`].
 pub const CONDITIONS: [&str; 4] = ["(eqn:c2)", "(eqn:kisigma)", "(eqn:c1b)", "(eqn:kRkWb)"];
 
 /// What [`synthesize`] found.
@@ -450,12 +415,12 @@ pub fn synthesize(
     let dist = |p: &[f64; 9]| p.iter().zip(&p0).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
     let mut f0 = |p: &[f64; 9]| {
         check(p).map_or(1e9, |r| {
-            100.0 * (MARGIN - worst(&scores(&r)).0).max(0.0) + 1e-3 * dist(p)
+            100.0 * (MARGIN - r.worst_log_margin().0).max(0.0) + 1e-3 * dist(p)
         })
     };
     let (x0, _) = nelder_mead(&mut f0, p0, evaluations);
     let free = from_vec(&paper, &x0);
-    let free_score = worst(&scores(&report(scene, &free, &b)?)).0;
+    let free_score = report(scene, &free, &b)?.worst_log_margin().0;
     let free_peak = if free_score > 0.0 {
         fly(scene, &free).map(|(p, _)| p)
     } else {
@@ -465,7 +430,7 @@ pub fn synthesize(
     let penalty = |peak: Option<f64>| peak.map_or(1e3, |p| 10.0 * (p / limit - 1.0).max(0.0));
     let mut f1 = |p: &[f64; 9]| {
         let Ok(r) = check(p) else { return 1e9 };
-        let s = worst(&scores(&r)).0.min(MARGIN);
+        let s = r.worst_log_margin().0.min(MARGIN);
         -s + penalty(fly(scene, &from_vec(&paper, p)).map(|x| x.0))
     };
     // Seeded from the scene's gains: the thrust limit keeps the answer near
@@ -473,14 +438,14 @@ pub fn synthesize(
     let (x1, _) = nelder_mead(&mut f1, to_vec(&paper), evaluations);
     let g1 = from_vec(&paper, &x1);
     let r1 = report(scene, &g1, &b)?;
-    let (s1, binding) = worst(&scores(&r1));
+    let (s1, binding) = r1.worst_log_margin();
     let peak1 = fly(scene, &g1).map(|x| x.0);
     let feasible = s1 > 0.0 && peak1.is_some_and(|p| p <= limit);
     let (g, r) = if feasible {
         // Phase 2: fastest slowest decay, staying certified and under the limit.
         let mut f2 = |p: &[f64; 9]| {
             let Ok(r) = check(p) else { return 1e9 };
-            let s = worst(&scores(&r)).0;
+            let s = r.worst_log_margin().0;
             if s <= 0.0 {
                 return 1e3 + 1e3 * -s;
             }
