@@ -120,3 +120,78 @@ fn a_perturbed_run_resumes_from_the_changed_state() {
     assert!((end - 1.2).abs() < 1e-12 && (out.last.t - end).abs() < 1e-12);
     assert!(out.samples.iter().all(|s| s.t <= out.last.t));
 }
+
+/// Pausing backwards does nothing, a NaN time is an error naming the call,
+/// and a time past the duration stops at the end.
+#[test]
+fn advance_to_edges() {
+    let mut scene = builtin::hover_disturbed();
+    scene.backend = scenarios::scene::BackendKind::Glam;
+    scene.duration = 0.5;
+    let mut sim = scenarios::builder::<GlamF64, 6>(&scene)
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(sim.time(), 0.0);
+    assert_eq!(sim.termination(), None);
+    sim.advance_to(0.2).unwrap();
+    let t = sim.time();
+    sim.advance_to(0.1).unwrap();
+    assert_eq!(sim.time(), t, "a pause in the past does not move the run");
+    match sim.advance_to(f64::NAN) {
+        Err(scenarios::SimError::Setting { field, .. }) => assert_eq!(field, "advance_to"),
+        other => panic!("{other:?}"),
+    }
+    sim.advance_to(1e9).unwrap();
+    assert_eq!(sim.time(), 0.5);
+    assert_eq!(sim.termination(), Some(Termination::Completed));
+    let out = sim.finish().unwrap();
+    assert_eq!(out.last.t, 0.5);
+}
+
+/// The divergence guard ends a run at the located instant a limit is
+/// passed: a kick of 6 rad/s against a 5 rad/s limit on |Ω| ends it at
+/// once, with the value that passed.
+#[test]
+fn the_guard_ends_a_run_where_a_limit_is_passed() {
+    let mut scene = builtin::hover_disturbed();
+    scene.backend = scenarios::scene::BackendKind::Glam;
+    scene.initial.omega = [0.0, 0.0, 4.0];
+    let guard = scenarios::DivergenceGuard {
+        omega: Some(5.0),
+        ..Default::default()
+    };
+    let mut sim = scenarios::builder::<GlamF64, 6>(&scene)
+        .unwrap()
+        .guard(guard)
+        .build()
+        .unwrap();
+    sim.advance_to(0.1).unwrap();
+    assert_eq!(sim.termination(), None, "4 rad/s is under the limit");
+    sim.state_mut().body.omega = glam::DVec3::new(0.0, 0.0, 6.0);
+    sim.advance_to(0.2).unwrap();
+    match sim.termination() {
+        Some(Termination::Diverged {
+            what: scenarios::Divergence::Omega(w),
+            t,
+        }) => {
+            assert!(w > 5.0 && w < 6.0 + 1e-9, "|Ω| = {w}");
+            // Located inside the first step after the kick.
+            assert!(t > 0.1 && t <= 0.1 + 1e-3 + 1e-12, "t = {t}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let out = sim.finish().unwrap();
+    assert!(out.diverged().is_some());
+    let bad = scenarios::builder::<GlamF64, 6>(&scene)
+        .unwrap()
+        .guard(scenarios::DivergenceGuard {
+            omega: Some(-1.0),
+            ..Default::default()
+        })
+        .build();
+    assert!(matches!(
+        bad,
+        Err(scenarios::SimError::Setting { field: "guard", .. })
+    ));
+}
