@@ -73,6 +73,7 @@
 compile_error!("lie needs either the `std` or the `libm` feature for its maths functions");
 
 mod backend;
+mod convert;
 mod backends {
     #[cfg(feature = "glam")]
     pub mod glam;
@@ -91,8 +92,9 @@ pub use backend::{Backend, M3, S, V3, ops};
 pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
+pub use convert::{log_wxyz, shepperd};
 pub use num_traits;
-pub use quat::{So3Quat, log_wxyz, shepperd};
+pub use quat::So3Quat;
 pub use real::Real;
 pub use rotation::{Rotation, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian};
@@ -142,11 +144,30 @@ impl core::fmt::Display for LieError {
 
 impl core::error::Error for LieError {}
 
-/// The usual imports: `use lie::prelude::*;`.
+/// The usual imports: `use lie::prelude::*;` brings the traits, the
+/// backends, the scalar and vector aliases, `ops` and `Float`, so generic
+/// code needs nothing else:
+///
+/// ```
+/// use lie::prelude::*;
+///
+/// /// The rotation angle of `R`, for any backend and scalar.
+/// fn angle<B: Backend>(r: So3Mat<B>) -> S<B> {
+///     let v: V3<B> = r.log();
+///     ops::norm::<B>(v)
+/// }
+/// let r = So3Mat::<GlamF64>::exp(glam::DVec3::new(0.0, 0.3, 0.4));
+/// assert!((angle(r) - 0.5).abs() < 1e-15);
+/// assert!(Float::abs(angle(r) - 0.5) < 1e-15);
+/// ```
 pub mod prelude {
-    pub use crate::{Backend, LieError, Real, Rotation, Se3, So3Mat, So3Quat, Twist};
+    pub use crate::{
+        Backend, LieError, M3, Real, Rotation, S, Se3, So3Mat, So3Quat, Twist, V3, ops,
+    };
     #[cfg(feature = "glam")]
     pub use crate::{GlamF32, GlamF64};
     #[cfg(feature = "nalgebra")]
     pub use crate::{NalgebraF32, NalgebraF64};
+    /// The scalar's floating-point methods (`sqrt`, `atan2`, `epsilon`, …).
+    pub use num_traits::Float;
 }

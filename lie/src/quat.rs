@@ -1,101 +1,11 @@
-//! SO(3) in the unit-quaternion representation, and the quaternion
-//! conversions that the matrix representation uses too (its logarithm goes
-//! through [`shepperd`]).
+//! SO(3) in the unit-quaternion representation (the conversions it shares
+//! with the matrix representation are in `convert`).
 
 use crate::Real as _;
 use crate::backend::ops;
+use crate::convert::{log_wxyz, shepperd, to_matrix};
 use crate::{Backend, M3, Rotation, S, V3, series};
 use num_traits::{Float, One, Zero};
-
-/// Quaternion `[w, x, y, z]` (not normalised) of a rotation matrix by
-/// Shepperd's method: the pivot is the largest of `tr R, R11, R22, R33`, so
-/// the square root is taken of a number ≥ 1 and no component is divided by
-/// a small one. Near angle π the trace-only formula would divide by `w ≈ 0`.
-#[inline]
-pub fn shepperd<B: Backend>(m: M3<B>) -> [S<B>; 4] {
-    let e = ops::elems::<B>(m);
-    let one = S::<B>::one();
-    let quarter = S::<B>::lit(0.25);
-    let half = S::<B>::lit(0.5);
-    let (m00, m11, m22) = (e[0][0], e[1][1], e[2][2]);
-    let tr = m00 + m11 + m22;
-    if tr >= m00 && tr >= m11 && tr >= m22 {
-        let w = half * (one + tr).sqrt();
-        let k = quarter / w;
-        [
-            w,
-            (e[2][1] - e[1][2]) * k,
-            (e[0][2] - e[2][0]) * k,
-            (e[1][0] - e[0][1]) * k,
-        ]
-    } else if m00 >= m11 && m00 >= m22 {
-        let x = half * (one + m00 - m11 - m22).sqrt();
-        let k = quarter / x;
-        [
-            (e[2][1] - e[1][2]) * k,
-            x,
-            (e[0][1] + e[1][0]) * k,
-            (e[0][2] + e[2][0]) * k,
-        ]
-    } else if m11 >= m22 {
-        let y = half * (one - m00 + m11 - m22).sqrt();
-        let k = quarter / y;
-        [
-            (e[0][2] - e[2][0]) * k,
-            (e[0][1] + e[1][0]) * k,
-            y,
-            (e[1][2] + e[2][1]) * k,
-        ]
-    } else {
-        let z = half * (one - m00 - m11 + m22).sqrt();
-        let k = quarter / z;
-        [
-            (e[1][0] - e[0][1]) * k,
-            (e[0][2] + e[2][0]) * k,
-            (e[1][2] + e[2][1]) * k,
-            z,
-        ]
-    }
-}
-
-/// Logarithm of a quaternion given as `[w, x, y, z]` (any positive scale).
-///
-/// The sign is chosen so that `w ≥ 0`, which puts the angle in `[0, π]`;
-/// then `φ = 2 atan2(|q_v|, w)/|q_v| · q_v`, or its series
-/// `(2/w − (2/3)|q_v|²/w³) q_v` below `Real::CUT_LOG`. At exactly π (`w = 0`)
-/// the result has length π and either sign of the axis is correct.
-#[inline]
-pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
-    let [mut w, mut x, mut y, mut z] = q;
-    if w < S::<B>::zero() {
-        (w, x, y, z) = (-w, -x, -y, -z);
-    }
-    let n2 = x * x + y * y + z * z;
-    let n = n2.sqrt();
-    let k = if n < S::<B>::CUT_LOG {
-        let two = S::<B>::lit(2.0);
-        two / w - S::<B>::lit(2.0 / 3.0) * n2 / (w * w * w)
-    } else {
-        S::<B>::lit(2.0) * n.atan2(w) / n
-    };
-    B::vec3(x * k, y * k, z * k)
-}
-
-/// The rotation matrix of a unit quaternion.
-#[inline]
-pub fn to_matrix<B: Backend>(q: B::Quat) -> M3<B> {
-    let [w, x, y, z] = B::quat_to_wxyz(q);
-    let one = S::<B>::one();
-    let two = S::<B>::lit(2.0);
-    let (xx, yy, zz) = (x * x, y * y, z * z);
-    let (xy, xz, yz) = (x * y, x * z, y * z);
-    let (wx, wy, wz) = (w * x, w * y, w * z);
-    B::mat3_from_cols(
-        B::vec3(one - two * (yy + zz), two * (xy + wz), two * (xz - wy)),
-        B::vec3(two * (xy - wz), one - two * (xx + zz), two * (yz + wx)),
-        B::vec3(two * (xz + wy), two * (yz - wx), one - two * (xx + yy)),
-    )
-}
 
 /// A rotation stored as a unit quaternion of the backend's own type
 /// (`glam::Quat`, `glam::DQuat`, `nalgebra::UnitQuaternion`).
@@ -192,7 +102,7 @@ impl<B: Backend> Rotation<B> for So3Quat<B> {
     /// measure.
     #[inline]
     fn orthogonality_error(self) -> S<B> {
-        crate::so3::orthogonality_error::<B>(self.matrix())
+        crate::convert::orthogonality_error::<B>(self.matrix())
     }
     #[inline]
     fn normalized(self) -> Self {

@@ -8,7 +8,7 @@
 
 use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, LieError, M3, Rotation, S, V3, quat, series};
+use crate::{Backend, LieError, M3, Rotation, S, V3, convert, series};
 use num_traits::{Float, One, Zero};
 
 /// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
@@ -81,11 +81,7 @@ pub fn right_jacobian_inv<B: Backend>(phi: V3<B>) -> M3<B> {
     rodrigues::<B>(S::<B>::one() - d * theta * theta, S::<B>::lit(0.5), d, phi)
 }
 
-/// `‖RᵀR − I‖_F`, the distance of a matrix from orthogonality.
-#[inline]
-pub fn orthogonality_error<B: Backend>(m: M3<B>) -> S<B> {
-    ops::frob_norm::<B>(B::mat3_transpose(m) * m - ops::identity::<B>())
-}
+pub use crate::convert::orthogonality_error;
 
 /// A rotation stored as a 3×3 rotation matrix of the backend's own type.
 ///
@@ -197,7 +193,7 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     /// including exactly π, where `acos((tr R − 1)/2)` loses half its digits.
     #[inline]
     fn log(self) -> V3<B> {
-        quat::log_wxyz::<B>(quat::shepperd::<B>(self.0))
+        convert::log_wxyz::<B>(convert::shepperd::<B>(self.0))
     }
     #[inline]
     fn matrix(self) -> M3<B> {
@@ -209,13 +205,13 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     }
     #[inline]
     fn quaternion(self) -> B::Quat {
-        let [w, x, y, z] = quat::shepperd::<B>(self.0);
+        let [w, x, y, z] = convert::shepperd::<B>(self.0);
         let n = S::<B>::one() / (w * w + x * x + y * y + z * z).sqrt();
         B::quat_from_wxyz(w * n, x * n, y * n, z * n)
     }
     #[inline]
     fn from_quaternion(q: B::Quat) -> Self {
-        Self(quat::to_matrix::<B>(q))
+        Self(convert::to_matrix::<B>(q))
     }
     /// `½ tr(I − Rdᵀ R)` as `¼ ‖R − Rd‖²_F` (equal for rotations, since
     /// `‖R − Rd‖² = 6 − 2 tr(RdᵀR)`): a sum of squares, so never negative
