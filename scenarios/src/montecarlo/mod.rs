@@ -75,6 +75,7 @@ pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
 
 use std::marker::PhantomData;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use controllers::ModeOutput;
 use dynamics::RigidBodyState;
@@ -314,6 +315,28 @@ impl<D, S, G, M> Study<D, S, G, M> {
         G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
+        self.fly(index, None)?.ok_or_else(|| SimError::Setting {
+            field: "study",
+            message: format!("sample {index} was interrupted"),
+        })
+    }
+
+    /// [`Study::sample`], or `None` when `cancel` is set before it ends.
+    fn fly<B, I, const N: usize>(
+        &self,
+        index: u64,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<Option<Trial<D>>, SimError>
+    where
+        B: Backend,
+        I: Integrator<B, N>,
+        S: Fn(&mut Stream) -> D,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError>,
+        M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
+    {
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return Ok(None);
+        }
         let draw = (self.draw)(&mut stream(self.seed, index));
         let mut settled = Settled::new(self.hold);
         let mut peaks = Peaks::default();
@@ -329,6 +352,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
                 record: false,
                 sink: Some(&mut peaks),
                 extrema: false,
+                cancel,
                 ..Default::default()
             };
             (self.build)(&draw)?.stop_when(stop).build()?.run(opts)
@@ -338,17 +362,12 @@ impl<D, S, G, M> Study<D, S, G, M> {
                 Termination::Diverged { .. } => Status::Diverged,
                 Termination::StoppedBy { .. } => Status::Converged,
                 Termination::Completed => Status::Deadline,
-                Termination::Interrupted { t } => {
-                    return Err(SimError::Setting {
-                        field: "study",
-                        message: format!("sample {index} was interrupted at t = {t}"),
-                    });
-                }
+                Termination::Interrupted { .. } => return Ok(None),
             },
             Err(SimError::Step { .. }) => Status::Error,
             Err(e) => return Err(e.clone()),
         };
-        Ok(Trial {
+        Ok(Some(Trial {
             index,
             draw,
             status,
@@ -358,7 +377,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
             max_thrust: peaks.thrust,
             max_rotor: peaks.rotor,
             run,
-        })
+        }))
     }
 
     /// Flies the samples `indices` on `threads` threads (default: one per
@@ -379,10 +398,33 @@ impl<D, S, G, M> Study<D, S, G, M> {
         G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError> + Sync,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
     {
+        self.run_until_cancelled(indices, threads, progress, &AtomicBool::new(false))
+    }
+
+    /// [`Study::run`] that stops early once `cancel` is set (by a signal
+    /// handler, a UI): samples not started are skipped and the ones in
+    /// flight stop at their current step and are dropped. The trials that
+    /// finished come back in index order; fewer than `indices` says the
+    /// study was cancelled.
+    pub fn run_until_cancelled<B, I, const N: usize>(
+        &self,
+        indices: &[u64],
+        threads: Option<usize>,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+        cancel: &AtomicBool,
+    ) -> Result<Vec<Trial<D>>, SimError>
+    where
+        B: Backend,
+        I: Integrator<B, N>,
+        D: Send,
+        S: Fn(&mut Stream) -> D + Sync,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError> + Sync,
+        M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
+    {
         let done = std::sync::atomic::AtomicU64::new(0);
         let one = |&i: &u64| {
-            let r = self.sample(i);
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            let r = self.fly(i, Some(cancel));
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if let Some(p) = progress
                 && (n.is_multiple_of(16) || n == indices.len() as u64)
             {
@@ -390,7 +432,8 @@ impl<D, S, G, M> Study<D, S, G, M> {
             }
             r
         };
-        parallel_map(indices, threads, one)
+        let trials = parallel_map(indices, threads, one)?;
+        Ok(trials.into_iter().flatten().collect())
     }
 }
 

@@ -155,3 +155,42 @@ fn summary_counts_and_percentiles() {
     );
     assert!(Summary::from_rows([]).t_converge.median.is_nan());
 }
+
+/// A cancel flag set before the study skips every sample; set by the
+/// progress callback once 16 are done, the study stops early with only
+/// finished samples, each the same as in a full run.
+#[test]
+fn a_cancelled_study_returns_only_finished_samples() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut s = setup();
+    s.experiment = "attitude".into();
+    s.deadline = 10.0;
+    let all: Vec<u64> = (0..64).collect();
+    let study = s.study();
+    let set = AtomicBool::new(true);
+    assert!(
+        study
+            .run_until_cancelled(&all, Some(2), None, &set)
+            .unwrap()
+            .is_empty()
+    );
+    let flag = AtomicBool::new(false);
+    let stop = |n: u64| {
+        if n >= 16 {
+            flag.store(true, Ordering::Relaxed);
+        }
+    };
+    let part = study
+        .run_until_cancelled(&all, Some(2), Some(&stop), &flag)
+        .unwrap();
+    assert!(part.len() >= 16 && part.len() < 64, "{} of 64", part.len());
+    let full = study.run(&all, Some(2), None).unwrap();
+    for t in &part {
+        let f = &full[t.index as usize];
+        assert_eq!(
+            (t.status, t.t_settled.map(f64::to_bits)),
+            (f.status, f.t_settled.map(f64::to_bits))
+        );
+    }
+    assert!(part.windows(2).all(|w| w[0].index < w[1].index));
+}
