@@ -132,42 +132,26 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
                     // Ω_c on the nominal trajectory: R_c does not depend on
                     // R, so the first call gives R_c, the second the exact
                     // Ω_c with R = R_c.
-                    let mut st = VehicleState {
-                        x: r.x,
-                        v: r.v,
-                        r: So3Mat::<B>::identity(),
-                        omega: B::vec3(0.0, 0.0, 0.0),
+                    let command = |r_now: So3Mat<B>| {
+                        let st = VehicleState {
+                            x: r.x,
+                            v: r.v,
+                            r: r_now,
+                            omega: B::vec3(0.0, 0.0, 0.0),
+                        };
+                        let z = B::vec3(0.0, 0.0, 0.0);
+                        let input = controllers::PositionInput {
+                            state: &st,
+                            e_i_pos: z,
+                            e_i_att: z,
+                            reference: &r,
+                            model: AccelerationModel::Nominal,
+                        };
+                        position_control(&p, &pg, &ag, &input)
+                            .map_err(|source| SimError::Control { t, source })
                     };
-                    let z = B::vec3(0.0, 0.0, 0.0);
-                    let nominal = AccelerationModel::Nominal;
-                    let control = |source| SimError::Control { t, source };
-                    let first = position_control(
-                        &p,
-                        &pg,
-                        &ag,
-                        &controllers::PositionInput {
-                            state: &st,
-                            e_i_pos: z,
-                            e_i_att: z,
-                            reference: &r,
-                            model: nominal,
-                        },
-                    )
-                    .map_err(control)?;
-                    st.r = first.rc;
-                    let out = position_control(
-                        &p,
-                        &pg,
-                        &ag,
-                        &controllers::PositionInput {
-                            state: &st,
-                            e_i_pos: z,
-                            e_i_att: z,
-                            reference: &r,
-                            model: nominal,
-                        },
-                    )
-                    .map_err(control)?;
+                    let first = command(So3Mat::<B>::identity())?;
+                    let out = command(first.rc)?;
                     w_max = w_max.max(norm(B::vec3_to_array(out.omega_c)));
                 }
             }

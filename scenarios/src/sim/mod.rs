@@ -380,6 +380,11 @@ pub enum SimError {
     Output(OutputError),
 }
 
+/// A builder setting's error.
+fn bad(field: &'static str, message: String) -> SimError {
+    SimError::Setting { field, message }
+}
+
 impl SimError {
     /// A step error with the mode's complaint, if any.
     pub(crate) fn step(
@@ -991,7 +996,6 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     /// The settings' values: finite and in range, each error naming its
     /// field and value.
     fn check_settings(&self) -> Result<(), SimError> {
-        let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(bad("dt", format!("{} must be finite and > 0", self.dt)));
         }
@@ -1024,7 +1028,6 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     /// The plan: segment end times increasing, Ψ thresholds in (0, 2), no
     /// switch condition on the last segment.
     fn check_plan(&self) -> Result<(), SimError> {
-        let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         let mut last = 0.0;
         for (k, seg) in self.plan.iter().enumerate() {
             let is_last = k + 1 == self.plan.len();
@@ -1060,7 +1063,6 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     pub fn build(self) -> Result<Simulation<'a, B, N, I>, SimError> {
         self.check_settings()?;
         self.check_plan()?;
-        let bad = |field: &'static str, message: String| SimError::Setting { field, message };
         let integrals = self
             .plan
             .iter()

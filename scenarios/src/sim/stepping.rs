@@ -368,7 +368,7 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     let Simulation {
         vehicle,
         mut plan,
-        y,
+        mut y,
         mut running,
         ..
     } = sim;
@@ -381,7 +381,7 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
         };
         if !r.started {
             r.started = true;
-            begin(&mut sys, &mut emit, &mut r.out, &mut { y })?;
+            begin(&mut sys, &mut emit, &mut r.out, &mut y)?;
         }
         r.done = Some(Termination::Interrupted { t: r.t });
         // A record instant the run paused on was sampled already (labelled
