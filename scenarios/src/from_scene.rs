@@ -308,6 +308,16 @@ impl Registry {
             .validate()
             .and_then(|()| scene.check_kind(&self.kinds()))
             .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+        let (vehicle, plan, capacity) = self.parts::<B>(scene)?;
+        match capacity {
+            6 => simulate::<B, 6>(scene, vehicle, plan, opts),
+            _ => simulate::<B, 16>(scene, vehicle, plan, opts),
+        }
+    }
+
+    /// The vehicle and plan of a validated `scene`, and the extra-state
+    /// capacity `N` (6 or 16) they fit.
+    pub(crate) fn parts<B: Backend>(&self, scene: &Scene) -> Result<Parts<B>, SimError> {
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
         let integrals = plan
@@ -318,17 +328,23 @@ impl Registry {
         // Scenes whose plan and vehicle fit the paper's six extra states
         // run exactly as the paper's; a vehicle with internal states gets
         // the next size up.
-        match integrals + vehicle.state_count() {
-            0..=6 => simulate::<B, 6>(scene, vehicle, plan, opts),
-            7..=16 => simulate::<B, 16>(scene, vehicle, plan, opts),
-            _ => Err(SimError::Layout {
-                integrals,
-                vehicle_states: vehicle.state_count(),
-                capacity: 16,
-            }),
-        }
+        let capacity = match integrals + vehicle.state_count() {
+            0..=6 => 6,
+            7..=16 => 16,
+            _ => {
+                return Err(SimError::Layout {
+                    integrals,
+                    vehicle_states: vehicle.state_count(),
+                    capacity: 16,
+                });
+            }
+        };
+        Ok((vehicle, plan, capacity))
     }
 }
+
+/// A scene's vehicle, plan and extra-state capacity.
+pub(crate) type Parts<B> = (Box<dyn Vehicle<B>>, Vec<Segment<'static, B>>, usize);
 
 fn simulate<B: Backend, const N: usize>(
     scene: &Scene,
@@ -342,7 +358,7 @@ fn simulate<B: Backend, const N: usize>(
 }
 
 /// The [`SimulationBuilder`] of `scene` with `vehicle` flying `plan`.
-fn builder_from<B: Backend, const N: usize>(
+pub(crate) fn builder_from<B: Backend, const N: usize>(
     scene: &Scene,
     vehicle: Box<dyn Vehicle<B>>,
     plan: Vec<Segment<'static, B>>,

@@ -50,18 +50,22 @@
 #![deny(missing_docs)]
 
 pub mod builtin;
+mod dynamic;
 mod from_scene;
 pub mod gains;
 pub mod metrics;
 pub mod montecarlo;
 pub mod output;
+mod overrides;
 pub mod reference;
 pub mod regress;
 pub mod scene;
 mod sim;
 pub mod stress;
 
+pub use dynamic::{SceneSimulation, StateF64};
 pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
+pub use overrides::Overrides;
 pub use scene::{Scene, SceneError};
 pub use sim::{
     Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, Sample,

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use scenarios::scene::{BackendKind, Scalar, Timing};
+use scenarios::scene::{BackendKind, Scalar};
 use scenarios::{RunOptions, RunOutput, Sample, Scene, SimError, SwitchRecord, builtin, output};
 
 mod outputs;
@@ -85,51 +85,25 @@ pub fn estimated_steps(scene: &Scene) -> f64 {
 }
 
 /// Applies the command-line overrides to a scene and validates it.
-pub fn apply(mut scene: Scene, a: &RunArgs) -> Result<Scene, String> {
-    if let Some(k) = &a.integrator {
-        k.parse::<integrators::IntegratorKind>()
-            .map_err(|e| format!("--integrator: {e}"))?;
-        scene.integrator.kind = k.clone();
-    }
-    let positive = |name: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(format!("{name} {v}: must be finite and > 0"))
-        }
+pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, String> {
+    let overrides = scenarios::Overrides {
+        integrator: a.integrator.clone(),
+        dt: a.dt,
+        tol: a.tol,
+        duration: a.duration,
+        sample: a.sample,
+        control_rate: a.control_rate,
+        scalar: a.scalar.as_deref().map(|s| match s {
+            "f32" => Scalar::F32,
+            _ => Scalar::F64,
+        }),
+        backend: a.backend.as_deref().map(|s| match s {
+            "glam" => BackendKind::Glam,
+            _ => BackendKind::Nalgebra,
+        }),
+        no_integral: a.no_integral,
     };
-    if let Some(v) = a.dt {
-        scene.integrator.dt = positive("--dt", v)?;
-    }
-    if let Some(v) = a.tol {
-        scene.integrator.tol = positive("--tol", v)?;
-    }
-    if let Some(v) = a.duration {
-        scene.duration = positive("--duration", v)?;
-    }
-    if let Some(v) = a.sample {
-        scene.record.sample = positive("--sample", v)?;
-    }
-    if let Some(v) = a.control_rate {
-        scene.control.timing = Timing::Sampled;
-        scene.control.rate = positive("--control-rate", v)?;
-    }
-    match a.scalar.as_deref() {
-        Some("f32") => scene.scalar = Scalar::F32,
-        Some("f64") => scene.scalar = Scalar::F64,
-        _ => {}
-    }
-    match a.backend.as_deref() {
-        Some("glam") => scene.backend = BackendKind::Glam,
-        Some("nalgebra") => scene.backend = BackendKind::Nalgebra,
-        _ => {}
-    }
-    if a.no_integral {
-        scene.gains.k_i = 0.0;
-        scene.gains.k_att_i = 0.0;
-    }
-    scene.validate().map_err(|(_, m)| m)?;
-    Ok(scene)
+    overrides.apply(scene).map_err(|e| e.to_string())
 }
 
 /// Runs `scene` with a progress bar on long runs (hidden when not on a

@@ -121,6 +121,30 @@ fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
+impl Default for Setup {
+    /// The position experiment as the command line runs it: 1000 samples
+    /// of seed 1, |Ω(0)| ≤ 2 rad/s, ‖x(0)‖ ≤ 2 m, ‖v(0)‖ ≤ 1 m/s, settled
+    /// when Ψ < 1e-3 and ‖e_x‖ < 1 cm hold for 0.5 s before 60 s, dopri at
+    /// tolerance 1e-6 from a 0.02 s first step.
+    fn default() -> Self {
+        Self {
+            experiment: "position".into(),
+            samples: 1000,
+            seed: 1,
+            omega_max: 2.0,
+            x_max: 2.0,
+            v_max: 1.0,
+            psi_tol: 1e-3,
+            x_tol: 1e-2,
+            deadline: 60.0,
+            hold: 0.5,
+            integrator: "dopri".into(),
+            dt: 0.02,
+            tol: 1e-6,
+        }
+    }
+}
+
 impl Setup {
     /// The experiment.
     pub fn experiment(&self) -> Result<Experiment, SimError> {
@@ -278,6 +302,22 @@ impl Setup {
         progress: Option<&(dyn Fn(u64) + Sync)>,
     ) -> Result<Vec<Outcome>, SimError> {
         let trials = self.study().run(indices, threads, progress)?;
+        Ok(trials.into_iter().map(Outcome::from).collect())
+    }
+
+    /// [`Setup::run`] that stops when `cancel` is set
+    /// ([`Study::run_until_cancelled`]): the rows of the samples finished
+    /// by then, in index order.
+    pub fn run_until_cancelled(
+        &self,
+        indices: &[u64],
+        threads: Option<usize>,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+        cancel: &std::sync::atomic::AtomicBool,
+    ) -> Result<Vec<Outcome>, SimError> {
+        let trials = self
+            .study()
+            .run_until_cancelled(indices, threads, progress, cancel)?;
         Ok(trials.into_iter().map(Outcome::from).collect())
     }
 

@@ -1,0 +1,388 @@
+"""Geometric PID control of multirotors on SE(3), from Python.
+
+The simulation, the controllers and the Monte Carlo study of the Rust
+workspace (Goodarzi, Lee & Lee, "Geometric Nonlinear PID Control of a
+Quadrotor UAV on SE(3)"), with results as numpy arrays. Frames follow the
+paper: the inertial e3 axis points **down**, thrust acts along -b3.
+
+>>> import geopid
+>>> r = geopid.run("paper-flip", duration=2.0, sample=0.01)
+>>> r.t.shape, r.R.shape
+((201,), (201, 3, 3))
+>>> bool(r.psi[-1] < 0.05)
+True
+
+A scene is a built-in name (``geopid.scene_names()``), a path to a TOML
+scene file, TOML text, or a dict in the same schema; ``load_scene`` turns
+any of them into a validated :class:`Scene`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _geopid
+from ._geopid import DivergedError, Scene, SceneError, SimulationError
+
+__all__ = [
+    "DivergedError",
+    "Result",
+    "Scene",
+    "SceneError",
+    "Simulation",
+    "SimulationError",
+    "attitude_control",
+    "load_scene",
+    "montecarlo",
+    "position_control",
+    "run",
+    "scene_names",
+]
+
+__version__ = _geopid.__version__
+
+SceneLike = Union[str, "os.PathLike[str]", Mapping[str, Any], Scene]
+
+_OVERRIDES = (
+    "integrator",
+    "dt",
+    "tol",
+    "duration",
+    "sample",
+    "control_rate",
+    "scalar",
+    "backend",
+    "no_integral",
+)
+
+
+def scene_names() -> list:
+    """The built-in scenes' names."""
+    return Scene.builtin_names()
+
+
+def load_scene(scene: SceneLike, **overrides: Any) -> Scene:
+    """A validated :class:`Scene` from a built-in name, a file path, TOML
+    text or a dict, with settings overridden by keyword (``integrator``,
+    ``dt``, ``tol``, ``duration``, ``sample``, ``control_rate``,
+    ``scalar`` ("f32"/"f64"), ``backend`` ("nalgebra"/"glam"),
+    ``no_integral``; ``None`` keeps the scene's value).
+
+    Raises :class:`SceneError` (a ``ValueError``) with ``key`` and
+    ``location`` ("file:line:col") when the scene does not parse or
+    validate.
+    """
+    if isinstance(scene, Scene):
+        s = scene
+    elif isinstance(scene, Mapping):
+        s = Scene.from_dict(dict(scene))
+    elif isinstance(scene, os.PathLike):
+        s = Scene.load(os.fspath(scene))
+    elif isinstance(scene, str):
+        # TOML text always has a key = value line; a name or a path never
+        # contains a newline or an equals sign.
+        if "\n" in scene or "=" in scene:
+            s = Scene.from_toml(scene)
+        else:
+            s = Scene.load(scene)
+    else:
+        raise TypeError(
+            f"scene: expected a name, path, TOML text, dict or Scene, got {type(scene).__name__}"
+        )
+    return s.with_overrides(**overrides)
+
+
+class Result:
+    """What a run produced: the samples as numpy arrays (one row per
+    recorded sample) and the run's figures.
+
+    Arrays: ``t`` (n,), ``x``, ``v``, ``omega``, ``moment``, ``xd``,
+    ``omega_d``, ``e_att``, ``e_pos`` (n, 3), ``R``, ``Rd`` (n, 3, 3),
+    ``psi``, ``ex``, ``thrust`` (n,), ``rotors`` (n, rotors),
+    ``vehicle_states`` (n, k), ``segment`` (n,) int. Lists: ``mode`` (the
+    active mode's name per sample), ``mode_names`` (per plan segment),
+    ``switches`` ((t, from, to) tuples), ``event_times`` ((t, component)),
+    ``warnings``, ``health`` (numerical-health warnings, empty when the
+    run is sound). Figures: ``steps``, ``evaluations``, ``max_thrust``,
+    ``max_rotor``, ``wall`` (s), ``max_orthogonality_error``,
+    ``psi_range``, ``epsilon``. ``termination`` is a dict: ``kind``
+    ("completed", "stopped", "interrupted" or "diverged"), ``t`` and, for
+    a divergence, ``what`` and ``value``.
+    """
+
+    _ARRAYS = (
+        "t", "x", "v", "R", "omega", "psi", "ex", "thrust", "moment", "Rd",
+        "omega_d", "xd", "e_att", "e_pos", "rotors", "vehicle_states",
+    )
+
+    def __init__(self, fields: Dict[str, Any]):
+        self.__dict__.update(fields)
+        self.segment = np.asarray(self.segment, dtype=np.int64)
+
+    def __repr__(self) -> str:
+        kind = self.termination["kind"]
+        return f"<Result {len(self.t)} samples to t={self.t[-1]:.6g} s, {self.steps} steps, {kind}>"
+
+    def to_pandas(self):
+        """The samples as a pandas DataFrame indexed by t, one column per
+        scalar (``x0``..``x2``, ``R00``..``R22``, ``rotor0``...). pandas
+        is not a dependency: this raises ImportError without it."""
+        import pandas as pd  # noqa: PLC0415 - optional dependency
+
+        cols: Dict[str, np.ndarray] = {}
+        for name in self._ARRAYS[1:]:
+            a = getattr(self, name)
+            if a.ndim == 1:
+                cols[name] = a
+            elif a.ndim == 2:
+                prefix = "rotor" if name == "rotors" else name
+                for k in range(a.shape[1]):
+                    cols[f"{prefix}{k}"] = a[:, k]
+            else:
+                for i in range(3):
+                    for j in range(3):
+                        cols[f"{name}{i}{j}"] = a[:, i, j]
+        cols["mode"] = self.mode
+        cols["segment"] = self.segment
+        return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
+
+
+def _wrap_diverged(e: DivergedError) -> DivergedError:
+    if isinstance(getattr(e, "result", None), dict):
+        e.result = Result(e.result)
+    return e
+
+
+def run(
+    scene: SceneLike,
+    *,
+    integrator: Optional[str] = None,
+    dt: Optional[float] = None,
+    tol: Optional[float] = None,
+    scalar: Optional[str] = None,
+    backend: Optional[str] = None,
+    duration: Optional[float] = None,
+    sample: Optional[float] = None,
+    control_rate: Optional[float] = None,
+    no_integral: bool = False,
+    csv: Optional[Union[str, "os.PathLike[str]"]] = None,
+    mcap: Optional[Union[str, "os.PathLike[str]"]] = None,
+    guard: Optional[Mapping[str, float]] = None,
+    raise_on_divergence: bool = True,
+) -> Result:
+    """Runs a scene to its end (keywords as :func:`load_scene`'s; ``None``
+    keeps the scene's value) and returns its :class:`Result`; ``csv`` and
+    ``mcap`` write the samples as ``cargo xtask run`` does. ``guard`` sets
+    divergence limits: ``omega`` (|Ω|, rad/s), ``position_error``
+    (‖x − x_d‖, m), ``moment`` (‖M‖, N m), ``substeps`` (per dopri call).
+
+    Raises :class:`SceneError` for a bad scene or setting,
+    :class:`SimulationError` (with ``t``) when a step fails, and
+    :class:`DivergedError` (with ``t``, ``termination`` and the partial
+    ``result``) when the guard stops the run, unless
+    ``raise_on_divergence`` is false (then ``result.termination`` says
+    "diverged"); Ctrl-C stops the run and raises ``KeyboardInterrupt``.
+    """
+    s = load_scene(
+        scene,
+        integrator=integrator,
+        dt=dt,
+        tol=tol,
+        scalar=scalar,
+        backend=backend,
+        duration=duration,
+        sample=sample,
+        control_rate=control_rate,
+        no_integral=no_integral,
+    )
+    try:
+        out = _geopid.run(
+            s,
+            csv=None if csv is None else os.fspath(csv),
+            mcap=None if mcap is None else os.fspath(mcap),
+            guard=None if guard is None else dict(guard),
+            raise_on_divergence=raise_on_divergence,
+        )
+    except DivergedError as e:
+        raise _wrap_diverged(e) from None
+    return Result(out)
+
+
+class Simulation:
+    """A scene's run to advance in pieces, look at and change: a notebook,
+    a gym-style loop, a co-simulation.
+
+    >>> sim = geopid.Simulation("hover-disturbed", duration=4.0)
+    >>> sim.advance_to(1.0)
+    >>> s = sim.state
+    >>> sim.set_state(omega=s["omega"] + [2.0, 0.0, 0.0])  # a kick about b1
+    >>> sim.advance_to(4.0)
+    >>> bool(sim.finish().psi[-1] < 1e-3)
+    True
+
+    ``advance_to(t)`` takes every step that ends at or before ``t``: the
+    step grid never moves, so advancing in pieces gives the same samples
+    as one :func:`run`, bit for bit.
+    """
+
+    def __init__(self, scene: SceneLike, **overrides: Any):
+        unknown = set(overrides) - set(_OVERRIDES)
+        if unknown:
+            raise TypeError(f"Simulation: unknown setting(s) {sorted(unknown)}")
+        self._sim = _geopid.Simulation(load_scene(scene, **overrides))
+
+    def advance_to(self, t: float) -> None:
+        """Advances to ``t`` (at most the duration)."""
+        self._sim.advance_to(float(t))
+
+    @property
+    def state(self) -> Dict[str, Any]:
+        """The state now: ``t``, ``x``, ``v``, ``R`` (3, 3), ``omega``,
+        ``integrals``, ``vehicle_states`` (numpy arrays), ``segment``,
+        ``mode``."""
+        return self._sim.state()
+
+    def set_state(self, **fields: Any) -> None:
+        """Replaces ``x``, ``v``, ``R``, ``omega``, ``integrals`` or
+        ``vehicle_states`` (the others stay). Raises ``ValueError`` naming
+        the field for a wrong shape or a non-finite value."""
+        self._sim.set_state(**{k: np.asarray(v, dtype=np.float64) for k, v in fields.items()})
+
+    @property
+    def time(self) -> float:
+        """Time reached, s."""
+        return self._sim.time
+
+    @property
+    def duration(self) -> float:
+        """The run's duration, s."""
+        return self._sim.duration
+
+    @property
+    def termination(self) -> Optional[Dict[str, Any]]:
+        """How the run ended, or None while it can go on."""
+        return self._sim.termination()
+
+    def output(self) -> Result:
+        """The run so far."""
+        return Result(self._sim.output())
+
+    def finish(self) -> Result:
+        """Ends the run where it is (``termination`` says "interrupted"
+        before the duration) and returns its :class:`Result`."""
+        return Result(self._sim.finish())
+
+
+def _arrays(d: Optional[Mapping[str, Any]]) -> Optional[Dict[str, np.ndarray]]:
+    if d is None:
+        return None
+    return {k: np.ascontiguousarray(v, dtype=np.float64) for k, v in d.items()}
+
+
+def position_control(
+    states: Mapping[str, Any],
+    references: Optional[Mapping[str, Any]] = None,
+    gains: Optional[Mapping[str, Any]] = None,
+    params: Optional[Mapping[str, Any]] = None,
+) -> Dict[str, np.ndarray]:
+    """The paper's position law for N states at once.
+
+    ``states``: ``x``, ``v``, ``omega`` (N, 3), ``R`` (N, 3, 3), and the
+    integrals ``e_i_pos``, ``e_i_att`` (N, 3; zero if left out).
+    ``references``: ``x``, ``v``, ``a``, ``jerk``, ``snap``, ``b1d``,
+    ``b1d_dot``, ``b1d_ddot``, each (N, 3) or (3,) for all (zero if left
+    out, ``b1d`` = e1). ``gains``: the scene file's ``[gains]`` keys
+    (``k_x``, ``k_v``, ``k_i``, ``k_r``, ``k_omega``, ``k_att_i``, ``c1``,
+    ``c2``, ``sigma``, ``clamp_integral``, ``acceleration_model``; the
+    paper's for those left out). ``params``: ``mass``, ``inertia``
+    (diagonal), ``gravity`` (the paper's quadrotor by default).
+
+    Returns ``thrust``, ``psi`` (N,), ``moment``, ``omega_c``,
+    ``omega_c_dot``, ``e_x``, ``e_v``, ``e_R``, ``e_omega``,
+    ``e_i_pos_rate``, ``e_i_att_rate`` (N, 3) and ``Rc`` (N, 3, 3).
+    A wrong shape, unknown key or non-finite input raises ``ValueError``
+    naming the field (and the row).
+    """
+    g = None if gains is None else json.dumps(dict(gains))
+    return _geopid.position_control(_arrays(states), _arrays(references), g, params)
+
+
+def attitude_control(
+    states: Mapping[str, Any],
+    references: Optional[Mapping[str, Any]] = None,
+    gains: Optional[Mapping[str, Any]] = None,
+    params: Optional[Mapping[str, Any]] = None,
+) -> Dict[str, np.ndarray]:
+    """The paper's attitude law for N states at once.
+
+    ``states``: ``R`` (N, 3, 3), ``omega`` (N, 3), ``e_i`` (N, 3; zero if
+    left out). ``references``: ``Rd`` (N, 3, 3) or (3, 3), ``omega_d``,
+    ``omega_d_dot`` (N, 3) or (3,) (identity and zero if left out).
+    ``gains`` and ``params`` as for :func:`position_control`. Returns
+    ``moment``, ``e_R``, ``e_omega``, ``e_i_rate`` (N, 3) and ``psi`` (N,).
+    """
+    g = None if gains is None else json.dumps(dict(gains))
+    return _geopid.attitude_control(_arrays(states), _arrays(references), g, params)
+
+
+_SAMPLE_DTYPE = np.dtype(
+    [
+        ("index", np.uint64),
+        ("angle", np.float64),
+        ("axis1", np.float64),
+        ("axis2", np.float64),
+        ("axis3", np.float64),
+        ("omega0", np.float64),
+        ("ex0", np.float64),
+        ("converged", np.bool_),
+        ("t_converge", np.float64),
+        ("final_psi", np.float64),
+        ("final_ex", np.float64),
+        ("max_thrust", np.float64),
+        ("max_rotor", np.float64),
+        ("steps", np.uint64),
+        ("status", "U9"),
+    ]
+)
+
+
+def montecarlo(
+    experiment: str = "position",
+    samples: int = 1000,
+    seed: int = 1,
+    *,
+    threads: Optional[int] = None,
+    indices: Optional[Sequence[int]] = None,
+    csv: Optional[Union[str, "os.PathLike[str]"]] = None,
+    **setup: Any,
+) -> np.ndarray:
+    """The paper's Monte Carlo experiment ("attitude" or "position"):
+    samples ``0..samples`` (or ``indices``) of ``seed`` on ``threads``
+    threads (default: one per core), with the interpreter's lock released.
+
+    Further keywords set the study as ``cargo xtask montecarlo``'s flags
+    do: ``omega_max``, ``x_max``, ``v_max``, ``psi_tol``, ``x_tol``,
+    ``deadline``, ``hold``, ``integrator``, ``dt``, ``tol``.
+
+    Returns a numpy structured array with the columns of ``samples.csv``;
+    ``csv`` writes that file, byte for byte what the command line writes
+    for the same setup. Ctrl-C stops the study and raises
+    ``KeyboardInterrupt``.
+    """
+    cfg = dict(setup, experiment=experiment, samples=int(samples), seed=int(seed))
+    idx = None if indices is None else [int(i) for i in indices]
+    cols = _geopid.montecarlo(json.dumps(cfg), idx, threads)
+    rows = np.zeros(len(cols["index"]), dtype=_SAMPLE_DTYPE)
+    for name in _SAMPLE_DTYPE.names:
+        rows[name] = cols[name]
+    if csv is not None:
+        path = os.fspath(csv)
+        tmp = path + ".partial"
+        with open(tmp, "w", encoding="utf-8", newline="") as f:
+            f.write(cols["csv"])
+        os.replace(tmp, path)
+    return rows

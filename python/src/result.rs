@@ -1,0 +1,173 @@
+//! `run`: a scene to the end, and a `RunOutput` as a dict of numpy arrays.
+
+use std::path::PathBuf;
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use scenarios::{
+    Divergence, DivergenceGuard, RunOptions, RunOutput, SceneSimulation, Termination, output,
+};
+
+use crate::arrays::{array, interruptible, mats, rows};
+use crate::scene::Scene;
+use crate::{DivergedError, sim_error};
+
+/// How a run ended, as a dict: `kind` (completed, stopped, interrupted,
+/// diverged), `t` (None when completed), and for a divergence `what`
+/// (omega, position_error, moment, substeps) and `value`.
+pub(crate) fn termination<'py>(py: Python<'py>, t: &Termination) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let (kind, time) = match *t {
+        Termination::Completed => ("completed", None),
+        Termination::StoppedBy { t } => ("stopped", Some(t)),
+        Termination::Interrupted { t } => ("interrupted", Some(t)),
+        Termination::Diverged { what, t } => {
+            let (name, value) = match what {
+                Divergence::Omega(w) => ("omega", w),
+                Divergence::PositionError(e) => ("position_error", e),
+                Divergence::Moment(m) => ("moment", m),
+                Divergence::Substeps(n) => ("substeps", f64::from(n)),
+            };
+            d.set_item("what", name)?;
+            d.set_item("value", value)?;
+            ("diverged", Some(t))
+        }
+    };
+    d.set_item("kind", kind)?;
+    d.set_item("t", time)?;
+    Ok(d)
+}
+
+/// The samples' columns and the run's figures.
+pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bound<'py, PyDict>> {
+    let s = &out.samples;
+    let d = PyDict::new(py);
+    let n = s.len();
+    let col = |f: fn(&scenarios::Sample) -> f64| array(py, &[n], s.iter().map(f).collect());
+    d.set_item("t", col(|s| s.t)?)?;
+    d.set_item("x", rows(py, s.iter().map(|s| s.x))?)?;
+    d.set_item("v", rows(py, s.iter().map(|s| s.v))?)?;
+    d.set_item("R", mats(py, s.iter().map(|s| s.r))?)?;
+    d.set_item("omega", rows(py, s.iter().map(|s| s.omega))?)?;
+    d.set_item("psi", col(|s| s.psi)?)?;
+    d.set_item("ex", col(|s| s.ex)?)?;
+    d.set_item("thrust", col(|s| s.thrust)?)?;
+    d.set_item("moment", rows(py, s.iter().map(|s| s.moment))?)?;
+    d.set_item("Rd", mats(py, s.iter().map(|s| s.rd))?)?;
+    d.set_item("omega_d", rows(py, s.iter().map(|s| s.omega_d))?)?;
+    d.set_item("xd", rows(py, s.iter().map(|s| s.xd))?)?;
+    d.set_item("e_att", rows(py, s.iter().map(|s| s.e_att))?)?;
+    d.set_item("e_pos", rows(py, s.iter().map(|s| s.e_pos))?)?;
+    for (key, get) in [
+        (
+            "rotors",
+            (|s| &s.rotors) as fn(&scenarios::Sample) -> &Vec<f64>,
+        ),
+        ("vehicle_states", |s| &s.vehicle_states),
+    ] {
+        // Every sample of a run has the same count; a ragged one would be
+        // a bug upstream, shown as NaN padding rather than a crash.
+        let k = s.iter().map(|x| get(x).len()).max().unwrap_or(0);
+        let data = s
+            .iter()
+            .flat_map(|x| (0..k).map(move |i| get(x).get(i).copied().unwrap_or(f64::NAN)))
+            .collect();
+        d.set_item(key, array(py, &[n, k], data)?)?;
+    }
+    let segment: Vec<usize> = s.iter().map(|s| s.segment).collect();
+    d.set_item("segment", segment)?;
+    let modes: Vec<&str> = s.iter().map(|s| s.mode).collect();
+    d.set_item("mode", modes)?;
+    d.set_item("mode_names", out.mode_names.clone())?;
+    let switches: Vec<(f64, usize, usize)> =
+        out.switches.iter().map(|w| (w.t, w.from, w.to)).collect();
+    d.set_item("switches", switches)?;
+    d.set_item("event_times", out.event_times.clone())?;
+    d.set_item("steps", out.steps)?;
+    d.set_item("evaluations", out.evaluations)?;
+    d.set_item("max_thrust", out.max_thrust)?;
+    d.set_item("max_rotor", out.max_rotor)?;
+    d.set_item("wall", out.wall)?;
+    d.set_item("warnings", out.warnings.clone())?;
+    d.set_item("max_orthogonality_error", out.max_orthogonality_error)?;
+    d.set_item("psi_range", out.psi_range)?;
+    d.set_item("epsilon", out.epsilon)?;
+    let health: Vec<String> = out.health().iter().map(|h| h.to_string()).collect();
+    d.set_item("health", health)?;
+    d.set_item("termination", termination(py, &out.termination)?)?;
+    Ok(d)
+}
+
+/// The guard from a dict with keys `omega` (rad/s), `position_error`
+/// (m), `moment` (N m), `substeps`.
+fn guard(d: Option<&Bound<'_, PyDict>>) -> PyResult<DivergenceGuard> {
+    let mut g = DivergenceGuard::default();
+    for (k, v) in d.iter().flat_map(|d| d.iter()) {
+        let k: String = k.extract()?;
+        match k.as_str() {
+            "omega" => g.omega = v.extract()?,
+            "position_error" => g.position_error = v.extract()?,
+            "moment" => g.moment = v.extract()?,
+            "substeps" => g.substeps = v.extract()?,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "guard: unknown key `{k}`: expected omega, position_error, moment, substeps"
+                )));
+            }
+        }
+    }
+    Ok(g)
+}
+
+/// Runs `scene` to the end; writes `csv` and `mcap` when given. `guard`
+/// (a dict: `omega`, `position_error`, `moment`, `substeps`) stops a run
+/// that passes a limit; such a run raises `DivergedError` (with `t`,
+/// `termination` and the partial `result`) unless `raise_on_divergence`
+/// is false. A failed step raises `SimulationError`; Ctrl-C stops the
+/// run and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (scene, *, csv=None, mcap=None, guard=None, raise_on_divergence=true))]
+pub(crate) fn run<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    csv: Option<PathBuf>,
+    mcap: Option<PathBuf>,
+    guard: Option<&Bound<'py, PyDict>>,
+    raise_on_divergence: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = &scene.inner;
+    let limits = self::guard(guard)?;
+    let out = interruptible(py, |cancel| {
+        // Built on the worker thread: a simulation holds flight modes,
+        // which stay on the thread that made them.
+        let mut sim = SceneSimulation::guarded(scene, limits)?;
+        let opts = RunOptions {
+            cancel: Some(cancel),
+            ..Default::default()
+        };
+        sim.advance_to_with(sim.duration(), opts)?;
+        sim.finish()
+    })?
+    .map_err(|e| sim_error(py, &e))?;
+    let written = |r: Result<u64, output::OutputError>| {
+        r.map_err(|e| sim_error(py, &scenarios::SimError::Output(e)))
+    };
+    if let Some(p) = &csv {
+        written(output::write_csv(p, &out))?;
+    }
+    if let Some(p) = &mcap {
+        written(output::write_mcap(p, &out))?;
+    }
+    let d = output_dict(py, &out)?;
+    if let (true, Some((what, t))) = (raise_on_divergence, out.diverged()) {
+        let err =
+            DivergedError::new_err(format!("{}: diverged at t = {t} s ({what:?})", scene.name));
+        let v = err.value(py);
+        v.setattr("t", t)?;
+        v.setattr("termination", termination(py, &out.termination)?)?;
+        v.setattr("result", d)?;
+        return Err(err);
+    }
+    Ok(d)
+}

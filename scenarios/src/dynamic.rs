@@ -1,0 +1,287 @@
+//! A scene's [`Simulation`] with its scalar, backend and state capacity
+//! chosen at run time, for front ends that cannot name the generic type
+//! (bindings to other languages, a UI that loads any scene file).
+
+use dynamics::RigidBodyState;
+use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, ops};
+
+use crate::from_scene::builder_from;
+use crate::scene::{BackendKind, Scalar, Scene, SceneError};
+use crate::{DivergenceGuard, Registry, RunOptions, RunOutput, SimError, Simulation, Termination};
+
+/// A simulation's state in f64, whatever the scalar it runs in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateF64 {
+    /// Time, s.
+    pub t: f64,
+    /// Position, m (inertial frame, e3 down).
+    pub x: [f64; 3],
+    /// Velocity, m/s.
+    pub v: [f64; 3],
+    /// Attitude, rows of the body-to-inertial rotation matrix.
+    pub r: [[f64; 3]; 3],
+    /// Body angular velocity, rad/s.
+    pub omega: [f64; 3],
+    /// The plan's integral register (the paper's modes: `[e_I, e_i]`).
+    pub integrals: Vec<f64>,
+    /// The vehicle's internal states.
+    pub vehicle_states: Vec<f64>,
+    /// The active segment.
+    pub segment: usize,
+    /// Its mode's name.
+    pub mode: &'static str,
+}
+
+/// What [`SceneSimulation`] needs of a `Simulation<B, N>`.
+trait Stepping {
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError>;
+    fn state(&self) -> StateF64;
+    fn set_state(&mut self, s: &StateF64) -> Result<(), SimError>;
+    fn output(&self) -> &RunOutput;
+    fn termination(&self) -> Option<Termination>;
+    fn time(&self) -> f64;
+    fn duration(&self) -> f64;
+    fn finish(self: Box<Self>) -> Result<RunOutput, SimError>;
+}
+
+fn to_f64<B: Backend>(v: lie::V3<B>) -> [f64; 3] {
+    B::vec3_to_array(v).map(|c| c.to_f64_lossless())
+}
+
+fn from_f64<B: Backend>(v: [f64; 3]) -> lie::V3<B> {
+    let [a, b, c] = v.map(<lie::S<B> as Real>::lit);
+    B::vec3(a, b, c)
+}
+
+/// Every element finite, or a [`SimError::Setting`] naming the field.
+fn finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(SimError::Setting {
+            field,
+            message: format!("{v} is not finite"),
+        }),
+        None => Ok(()),
+    }
+}
+
+impl<B: Backend, const N: usize> Stepping for Simulation<'static, B, N> {
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
+        Simulation::advance_to_with(self, t, opts)
+    }
+
+    fn state(&self) -> StateF64 {
+        let s = Simulation::state(self);
+        let rows = ops::elems::<B>(s.body.r).map(|r| r.map(|c| c.to_f64_lossless()));
+        StateF64 {
+            t: s.t,
+            x: to_f64::<B>(s.body.x),
+            v: to_f64::<B>(s.body.v),
+            r: rows,
+            omega: to_f64::<B>(s.body.omega),
+            integrals: s.integrals.iter().map(|c| c.to_f64_lossless()).collect(),
+            vehicle_states: s
+                .vehicle_states
+                .iter()
+                .map(|c| c.to_f64_lossless())
+                .collect(),
+            segment: s.segment,
+            mode: s.mode,
+        }
+    }
+
+    fn set_state(&mut self, s: &StateF64) -> Result<(), SimError> {
+        let (m, nv) = self.layout();
+        for (field, got, want) in [
+            ("state.integrals", s.integrals.len(), m),
+            ("state.vehicle_states", s.vehicle_states.len(), nv),
+        ] {
+            if got != want {
+                return Err(SimError::Setting {
+                    field,
+                    message: format!("{got} values given, this simulation has {want}"),
+                });
+            }
+        }
+        finite("state.x", &s.x)?;
+        finite("state.v", &s.v)?;
+        finite("state.r", s.r.as_flattened())?;
+        finite("state.omega", &s.omega)?;
+        finite("state.integrals", &s.integrals)?;
+        finite("state.vehicle_states", &s.vehicle_states)?;
+        let lit = <lie::S<B> as Real>::lit;
+        let to = self.state_mut();
+        *to.body = RigidBodyState {
+            r: ops::from_elems::<B>(s.r.map(|r| r.map(lit))),
+            x: from_f64::<B>(s.x),
+            v: from_f64::<B>(s.v),
+            omega: from_f64::<B>(s.omega),
+        };
+        for (slot, v) in to.integrals.iter_mut().zip(&s.integrals) {
+            *slot = lit(*v);
+        }
+        for (slot, v) in to.vehicle_states.iter_mut().zip(&s.vehicle_states) {
+            *slot = lit(*v);
+        }
+        Ok(())
+    }
+
+    fn output(&self) -> &RunOutput {
+        Simulation::output(self)
+    }
+
+    fn termination(&self) -> Option<Termination> {
+        Simulation::termination(self)
+    }
+
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+
+    fn duration(&self) -> f64 {
+        Simulation::duration(self)
+    }
+
+    fn finish(self: Box<Self>) -> Result<RunOutput, SimError> {
+        Simulation::finish(*self)
+    }
+}
+
+/// A scene's simulation, to step, inspect and change, with the scene's
+/// scalar and backend picked at run time (the generic [`Simulation`]
+/// does the work; this only forwards). Values cross in f64: an f32 scene
+/// rounds what [`SceneSimulation::set_state`] is given.
+///
+/// ```
+/// let mut scene = scenarios::load("hover-disturbed")?;
+/// scene.duration = 4.0;
+/// let mut sim = scenarios::SceneSimulation::new(&scene)?;
+/// sim.advance_to(1.0)?;
+/// let mut s = sim.state();
+/// s.omega[0] += 2.0; // a kick about b1
+/// sim.set_state(&s)?;
+/// sim.advance_to(4.0)?;
+/// let out = sim.finish()?;
+/// assert!(out.last.psi < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct SceneSimulation {
+    inner: Box<dyn Stepping>,
+}
+
+impl std::fmt::Debug for SceneSimulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SceneSimulation")
+            .field("t", &self.time())
+            .field("duration", &self.duration())
+            .finish()
+    }
+}
+
+impl SceneSimulation {
+    /// The simulation of `scene` (built-in vehicle kinds; see
+    /// [`Registry::simulation`]).
+    pub fn new(scene: &Scene) -> Result<Self, SimError> {
+        Registry::new().simulation(scene)
+    }
+
+    /// The simulation of `scene` stopped by `guard` when it diverges.
+    pub fn guarded(scene: &Scene, guard: DivergenceGuard) -> Result<Self, SimError> {
+        Registry::new().simulation_guarded(scene, guard)
+    }
+
+    /// Advances to `t`, recording samples ([`Simulation::advance_to`]).
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        self.inner.advance_to_with(t, RunOptions::default())
+    }
+
+    /// [`Simulation::advance_to_with`].
+    pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
+        self.inner.advance_to_with(t, opts)
+    }
+
+    /// The state now, in f64.
+    pub fn state(&self) -> StateF64 {
+        self.inner.state()
+    }
+
+    /// Replaces the body state, the integral register and the vehicle's
+    /// states (`t`, `segment` and `mode` of `s` are not read: time moves
+    /// only by stepping). Lengths must match [`SceneSimulation::state`]'s and
+    /// values be finite, or it is a [`SimError::Setting`] naming the field;
+    /// `r` is taken as given (a matrix off SO(3) is the caller's choice,
+    /// which [`RunOutput::health`] reports).
+    pub fn set_state(&mut self, s: &StateF64) -> Result<(), SimError> {
+        self.inner.set_state(s)
+    }
+
+    /// The run so far.
+    pub fn output(&self) -> &RunOutput {
+        self.inner.output()
+    }
+
+    /// How the run ended, once it has.
+    pub fn termination(&self) -> Option<Termination> {
+        self.inner.termination()
+    }
+
+    /// Time reached, s.
+    pub fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// The run's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.inner.duration()
+    }
+
+    /// Ends the run where it is ([`Simulation::finish`]).
+    pub fn finish(self) -> Result<RunOutput, SimError> {
+        self.inner.finish()
+    }
+}
+
+impl Registry {
+    /// [`SceneSimulation`] of `scene` with this registry's vehicle kinds.
+    pub fn simulation(&self, scene: &Scene) -> Result<SceneSimulation, SimError> {
+        self.simulation_guarded(scene, DivergenceGuard::default())
+    }
+
+    /// [`Registry::simulation`] with a divergence guard (a run it stops
+    /// ends with [`Termination::Diverged`]).
+    pub fn simulation_guarded(
+        &self,
+        scene: &Scene,
+        guard: DivergenceGuard,
+    ) -> Result<SceneSimulation, SimError> {
+        fn on<B: Backend>(
+            r: &Registry,
+            scene: &Scene,
+            guard: DivergenceGuard,
+        ) -> Result<Box<dyn Stepping>, SimError> {
+            scene
+                .validate()
+                .and_then(|()| scene.check_kind(&r.kinds()))
+                .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+            let (vehicle, plan, capacity) = r.parts::<B>(scene)?;
+            Ok(match capacity {
+                6 => Box::new(
+                    builder_from::<B, 6>(scene, vehicle, plan)?
+                        .guard(guard)
+                        .build()?,
+                ),
+                _ => Box::new(
+                    builder_from::<B, 16>(scene, vehicle, plan)?
+                        .guard(guard)
+                        .build()?,
+                ),
+            })
+        }
+        let inner = match (scene.scalar, scene.backend) {
+            (Scalar::F64, BackendKind::Nalgebra) => on::<NalgebraF64>(self, scene, guard)?,
+            (Scalar::F64, BackendKind::Glam) => on::<GlamF64>(self, scene, guard)?,
+            (Scalar::F32, BackendKind::Nalgebra) => on::<NalgebraF32>(self, scene, guard)?,
+            (Scalar::F32, BackendKind::Glam) => on::<GlamF32>(self, scene, guard)?,
+        };
+        Ok(SceneSimulation { inner })
+    }
+}
