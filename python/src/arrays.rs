@@ -41,37 +41,65 @@ pub(crate) fn mats<'py>(
     array(py, &[n, 3, 3], data)
 }
 
-/// A float array argument flattened, after checking that its shape is
-/// `(n, *tail)` (or `tail` alone, broadcast to `n` rows when
-/// `broadcast`); the error names `field` and both shapes. With `finite`,
-/// a NaN or infinity is an error naming the field and the row too.
-pub(crate) fn input(
+/// Rows of `per` values: one row per index, or one row for all
+/// (`stride` 0, a broadcast argument).
+pub(crate) struct Col {
+    pub(crate) data: Vec<f64>,
+    pub(crate) stride: usize,
+}
+
+impl Col {
+    /// One row for all.
+    pub(crate) fn one(row: &[f64]) -> Self {
+        Self {
+            data: row.to_vec(),
+            stride: 0,
+        }
+    }
+
+    /// Row `i`, starting at value `per·i` (or the only row).
+    #[inline]
+    pub(crate) fn row(&self, i: usize) -> &[f64] {
+        &self.data[self.stride * i..]
+    }
+}
+
+/// A float array argument, after checking that its shape is `(n, *tail)`
+/// (or `tail` alone, one row for all, when `broadcast`); the error names
+/// `field` and both shapes. With `finite`, a NaN or infinity is an error
+/// naming the field and the row too.
+pub(crate) fn input_col(
     field: &str,
     a: &PyReadonlyArrayDyn<'_, f64>,
     n: Option<usize>,
     tail: &[usize],
     broadcast: bool,
     finite: bool,
-) -> PyResult<(usize, Vec<f64>)> {
+) -> PyResult<(usize, Col)> {
     let shape = a.shape();
     let per: usize = tail.iter().product();
-    let bad = || {
-        let want = match n {
-            Some(n) => format!("({n}, {})", dims(tail)),
-            None if broadcast => format!("{} or (n, {})", tuple(tail), dims(tail)),
-            None => format!("(n, {})", dims(tail)),
-        };
-        PyValueError::new_err(format!("{field}: shape {}, expected {want}", tuple(shape)))
-    };
-    let values: Vec<f64> = a.as_array().iter().copied().collect();
     let broadcast = broadcast && shape == tail;
     if !broadcast
         && (shape.len() != tail.len() + 1
             || shape[1..] != *tail
             || n.is_some_and(|n| shape[0] != n))
     {
-        return Err(bad());
+        let want = match n {
+            Some(n) => format!("({n}, {})", dims(tail)),
+            None if broadcast => format!("{} or (n, {})", tuple(tail), dims(tail)),
+            None => format!("(n, {})", dims(tail)),
+        };
+        return Err(PyValueError::new_err(format!(
+            "{field}: shape {}, expected {want}",
+            tuple(shape)
+        )));
     }
+    // A C-contiguous array is one copy; any other layout goes element
+    // by element in logical order.
+    let values: Vec<f64> = match a.as_slice() {
+        Ok(s) => s.to_vec(),
+        Err(_) => a.as_array().iter().copied().collect(),
+    };
     if let Some(i) = values.iter().position(|v| finite && !v.is_finite()) {
         let at = if broadcast {
             String::new()
@@ -83,11 +111,31 @@ pub(crate) fn input(
             values[i]
         )));
     }
-    if broadcast {
-        let rows = n.unwrap_or(1);
-        return Ok((rows, values.repeat(rows)));
+    let rows = if broadcast { n.unwrap_or(1) } else { shape[0] };
+    let stride = if broadcast { 0 } else { per };
+    Ok((
+        rows,
+        Col {
+            data: values,
+            stride,
+        },
+    ))
+}
+
+/// [`input_col`] with a broadcast row repeated, as one flat vector.
+pub(crate) fn input(
+    field: &str,
+    a: &PyReadonlyArrayDyn<'_, f64>,
+    n: Option<usize>,
+    tail: &[usize],
+    broadcast: bool,
+    finite: bool,
+) -> PyResult<(usize, Vec<f64>)> {
+    let (rows, col) = input_col(field, a, n, tail, broadcast, finite)?;
+    if col.stride == 0 {
+        return Ok((rows, col.data.repeat(rows)));
     }
-    Ok((shape[0], values))
+    Ok((rows, col.data))
 }
 
 /// A shape as Python prints it: `(3,)`, `(4, 3)`.

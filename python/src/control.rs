@@ -14,23 +14,28 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scenarios::scene::{AccelModel, GainsSpec};
 
-use crate::arrays::{array, input};
+use crate::arrays::{Col, array, input_col};
 
 type B = GlamF64;
 
-fn v3(a: &[f64], i: usize) -> V3<B> {
-    B::vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2])
+#[inline]
+fn v3(a: &Col, i: usize) -> V3<B> {
+    let e = a.row(i);
+    B::vec3(e[0], e[1], e[2])
 }
 
-fn m3(a: &[f64], i: usize) -> M3<B> {
-    let e = &a[9 * i..9 * i + 9];
+#[inline]
+fn m3(a: &Col, i: usize) -> M3<B> {
+    let e = a.row(i);
     ops::from_elems::<B>([[e[0], e[1], e[2]], [e[3], e[4], e[5]], [e[6], e[7], e[8]]])
 }
 
+#[inline]
 fn push3(to: &mut Vec<f64>, v: V3<B>) {
     to.extend_from_slice(&B::vec3_to_array(v));
 }
 
+#[inline]
 fn push9(to: &mut Vec<f64>, m: M3<B>) {
     to.extend(ops::elems::<B>(m).into_iter().flatten());
 }
@@ -131,14 +136,14 @@ fn column(
     name: &str,
     n: Option<usize>,
     tail: &[usize],
-) -> PyResult<Option<(usize, Vec<f64>)>> {
+) -> PyResult<Option<(usize, Col)>> {
     let Some(a) = d.map(|d| d.get_item(name)).transpose()?.flatten() else {
         return Ok(None);
     };
     let a: PyReadonlyArrayDyn<'_, f64> = a
         .extract()
         .map_err(|e| PyValueError::new_err(format!("{what}.{name}: not a float array ({e})")))?;
-    input(&format!("{what}.{name}"), &a, n, tail, n.is_some(), false).map(Some)
+    input_col(&format!("{what}.{name}"), &a, n, tail, n.is_some(), false).map(Some)
 }
 
 /// A required column.
@@ -148,7 +153,7 @@ fn required(
     name: &str,
     n: Option<usize>,
     tail: &[usize],
-) -> PyResult<(usize, Vec<f64>)> {
+) -> PyResult<(usize, Col)> {
     column(what, Some(d), name, n, tail)?
         .ok_or_else(|| PyValueError::new_err(format!("{what}: `{name}` is missing")))
 }
@@ -160,10 +165,10 @@ fn optional(
     name: &str,
     n: usize,
     default: [f64; 3],
-) -> PyResult<Vec<f64>> {
+) -> PyResult<Col> {
     Ok(match column(what, d, name, Some(n), &[3])? {
         Some((_, v)) => v,
-        None => default.repeat(n),
+        None => Col::one(&default),
     })
 }
 
@@ -245,7 +250,9 @@ pub(crate) fn position_control<'py>(
         "e_i_pos_rate",
         "e_i_att_rate",
     ];
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(9 * n); names.len()];
+    let mut cols: Vec<Vec<f64>> = (0..names.len())
+        .map(|_| Vec::with_capacity(9 * n))
+        .collect();
     for i in 0..n {
         let state = VehicleState {
             x: v3(&xs, i),
@@ -316,7 +323,7 @@ pub(crate) fn attitude_control<'py>(
     known_keys("references", references, &["Rd", "omega_d", "omega_d_dot"])?;
     let rds = match column("references", references, "Rd", Some(n), &[3, 3])? {
         Some((_, v)) => v,
-        None => [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0].repeat(n),
+        None => Col::one(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
     };
     let wd = optional("references", references, "omega_d", n, [0.0; 3])?;
     let wdd = optional("references", references, "omega_d_dot", n, [0.0; 3])?;
@@ -324,7 +331,9 @@ pub(crate) fn attitude_control<'py>(
     let p = params_of(params)?;
     let ag = AttitudeGains::<B>::uniform(g.k_r, g.k_omega, g.k_att_i, g.c2);
     let names = ["moment", "e_R", "e_omega", "psi", "e_i_rate"];
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(3 * n); names.len()];
+    let mut cols: Vec<Vec<f64>> = (0..names.len())
+        .map(|_| Vec::with_capacity(3 * n))
+        .collect();
     for i in 0..n {
         let reference = AttitudeReference {
             rd: So3Mat::<B>::from_matrix_unchecked(m3(&rds, i)),
