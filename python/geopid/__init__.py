@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -172,6 +172,7 @@ def run(
     csv: Optional[Union[str, "os.PathLike[str]"]] = None,
     mcap: Optional[Union[str, "os.PathLike[str]"]] = None,
     guard: Optional[Mapping[str, float]] = None,
+    reference: Optional[Callable[[float], Any]] = None,
     raise_on_divergence: bool = True,
 ) -> Result:
     """Runs a scene to its end (keywords as :func:`load_scene`'s; ``None``
@@ -179,6 +180,12 @@ def run(
     ``mcap`` write the samples as ``cargo xtask run`` does. ``guard`` sets
     divergence limits: ``omega`` (|Ω|, rad/s), ``position_error``
     (‖x − x_d‖, m), ``moment`` (‖M‖, N m), ``substeps`` (per dopri call).
+    ``reference``, a callable ``t -> (x, v, a, jerk, snap, b1d, b1d_dot,
+    b1d_ddot)`` (a tuple of up to eight 3-vectors, the rest zero and
+    ``b1d`` = e1, or a dict with those keys), replaces the position
+    reference of every position-mode segment; it is the slow path (a few
+    µs an evaluation, several evaluations a step), and an exception it
+    raises stops the run and is re-raised.
 
     Raises :class:`SceneError` for a bad scene or setting,
     :class:`SimulationError` (with ``t``) when a step fails, and
@@ -205,6 +212,7 @@ def run(
             csv=None if csv is None else os.fspath(csv),
             mcap=None if mcap is None else os.fspath(mcap),
             guard=None if guard is None else dict(guard),
+            reference=reference,
             raise_on_divergence=raise_on_divergence,
         )
     except DivergedError as e:
@@ -226,14 +234,20 @@ class Simulation:
 
     ``advance_to(t)`` takes every step that ends at or before ``t``: the
     step grid never moves, so advancing in pieces gives the same samples
-    as one :func:`run`, bit for bit.
+    as one :func:`run`, bit for bit. ``reference`` is a callable as in
+    :func:`run`.
     """
 
-    def __init__(self, scene: SceneLike, **overrides: Any):
+    def __init__(
+        self,
+        scene: SceneLike,
+        reference: Optional[Callable[[float], Any]] = None,
+        **overrides: Any,
+    ):
         unknown = set(overrides) - set(_OVERRIDES)
         if unknown:
             raise TypeError(f"Simulation: unknown setting(s) {sorted(unknown)}")
-        self._sim = _geopid.Simulation(load_scene(scene, **overrides))
+        self._sim = _geopid.Simulation(load_scene(scene, **overrides), reference)
 
     def advance_to(self, t: float) -> None:
         """Advances to ``t`` (at most the duration)."""

@@ -1,7 +1,7 @@
 """Type stubs of the native extension (the Rust crate python/src). Users
 import the wrappers in geopid/__init__.py; these describe what they call."""
 
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Callable, Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -54,7 +54,7 @@ class Scene:
 class Simulation:
     """A scene's run, advanced in pieces."""
 
-    def __init__(self, scene: Scene) -> None: ...
+    def __init__(self, scene: Scene, reference: Optional[Callable[[float], Any]] = None) -> None: ...
     def advance_to(self, t: float) -> None:
         """Advances to ``t`` (at most the duration)."""
     def state(self) -> Dict[str, Any]:
@@ -78,6 +78,7 @@ def run(
     csv: Optional[str] = None,
     mcap: Optional[str] = None,
     guard: Optional[Dict[str, float]] = None,
+    reference: Optional[Callable[[float], Any]] = None,
     raise_on_divergence: bool = True,
 ) -> Dict[str, Any]:
     """Runs ``scene`` to the end; the samples' columns and the figures."""

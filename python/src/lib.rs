@@ -9,6 +9,7 @@ use scenarios::{SceneError as RsSceneError, SimError};
 
 mod arrays;
 mod control;
+mod reference;
 mod result;
 mod scene;
 mod simulation;

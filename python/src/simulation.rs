@@ -4,9 +4,10 @@ use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scenarios::{SceneSimulation, StateF64};
+use scenarios::{DivergenceGuard, SceneSimulation, StateF64};
 
 use crate::arrays::{array, input};
+use crate::reference::{ErrorCell, position_fn, take_error};
 use crate::result::{output_dict, termination};
 use crate::scene::Scene;
 use crate::sim_error;
@@ -17,6 +18,8 @@ use crate::sim_error;
 #[pyclass(module = "geopid._geopid", unsendable)]
 pub struct Simulation {
     sim: Option<SceneSimulation>,
+    /// The first exception of the reference callable, if any.
+    errors: ErrorCell,
 }
 
 impl Simulation {
@@ -47,17 +50,38 @@ fn vector(field: &str, a: Option<PyReadonlyArrayDyn<'_, f64>>, now: &[f64]) -> P
 
 #[pymethods]
 impl Simulation {
-    /// The simulation of `scene` at t = 0.
+    /// The simulation of `scene` at t = 0; `reference`, a callable as in
+    /// `run`, replaces the position reference of position-mode segments.
     #[new]
-    fn new(py: Python<'_>, scene: &Scene) -> PyResult<Self> {
-        let sim = SceneSimulation::new(&scene.inner).map_err(|e| sim_error(py, &e))?;
-        Ok(Self { sim: Some(sim) })
+    #[pyo3(signature = (scene, reference=None))]
+    fn new(py: Python<'_>, scene: &Scene, reference: Option<Py<PyAny>>) -> PyResult<Self> {
+        let errors = ErrorCell::default();
+        let sim = match reference {
+            Some(f) => SceneSimulation::with_position(
+                &scene.inner,
+                DivergenceGuard::default(),
+                position_fn(f, errors.clone()),
+            ),
+            None => SceneSimulation::new(&scene.inner),
+        }
+        .map_err(|e| take_error(&errors, sim_error(py, &e)))?;
+        Ok(Self {
+            sim: Some(sim),
+            errors,
+        })
     }
 
     /// Advances to `t` (at most the duration): every step ending at or
     /// before `t` is taken, so the pieces add up to one run bit for bit.
+    /// An exception of the reference callable is re-raised.
     fn advance_to(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        self.sim_mut()?.advance_to(t).map_err(|e| sim_error(py, &e))
+        let r = self.sim_mut()?.advance_to(t);
+        let raised = self.errors.lock().unwrap_or_else(|p| p.into_inner()).take();
+        match (r, raised) {
+            (_, Some(e)) => Err(e),
+            (Err(e), None) => Err(sim_error(py, &e)),
+            (Ok(()), None) => Ok(()),
+        }
     }
 
     /// The state now: t, x, v, R (3×3), omega, integrals, vehicle_states

@@ -227,6 +227,66 @@ def test_set_state_errors_name_the_field():
         geopid.Simulation("hover-disturbed", stepsize=0.1)
 
 
+# --- a Python reference in the loop ------------------------------------------
+
+
+def test_a_callable_reference_equal_to_the_scene_gives_the_same_run():
+    calls = []
+
+    def hold(t):
+        calls.append(t)
+        return ((0.0, 0.0, 0.0),)  # x_d; the rest zero, b1d = e1
+
+    plain = geopid.run("hover-disturbed", duration=2.0)
+    ours = geopid.run("hover-disturbed", duration=2.0, reference=hold)
+    assert len(calls) > ours.steps  # evaluated at every stage, and for the log
+    for name in ("t", "x", "R", "omega", "thrust"):
+        assert np.array_equal(getattr(plain, name), getattr(ours, name)), name
+
+
+def test_a_callable_reference_is_tracked():
+    """A circle of radius 1 m at 0.5 rad/s, 1 m up, with its derivatives
+    up to snap and the heading along it: after 15 s the error is small."""
+    w, r = 0.5, 1.0
+
+    def circle(t):
+        c, s = math.cos(w * t), math.sin(w * t)
+        x = (r * c, r * s, -1.0)
+        v = (-r * w * s, r * w * c, 0.0)
+        a = (-r * w**2 * c, -r * w**2 * s, 0.0)
+        j = (r * w**3 * s, -r * w**3 * c, 0.0)
+        sn = (r * w**4 * c, r * w**4 * s, 0.0)
+        return {"x": x, "v": v, "a": a, "jerk": j, "snap": sn}
+
+    out = geopid.run("hover-disturbed", duration=20.0, reference=circle)
+    late = out.t > 15.0
+    assert out.ex[late].max() < 0.02, out.ex[late].max()
+    assert np.allclose(out.xd[-1], circle(out.t[-1])["x"], atol=1e-12)
+    sim = geopid.Simulation("hover-disturbed", reference=circle, duration=2.0)
+    sim.advance_to(2.0)
+    assert np.array_equal(sim.finish().x, geopid.run("hover-disturbed", duration=2.0, reference=circle).x)
+
+
+def test_a_callable_reference_error_is_raised_as_itself():
+    def boom(t):
+        if t > 0.5:
+            raise ZeroDivisionError("boom at %g" % t)
+        return ((0.0, 0.0, 0.0),)
+
+    with pytest.raises(ZeroDivisionError, match="boom at"):
+        geopid.run("hover-disturbed", duration=1.0, reference=boom)
+    sim = geopid.Simulation("hover-disturbed", reference=boom, duration=1.0)
+    sim.advance_to(0.4)
+    with pytest.raises(ZeroDivisionError):
+        sim.advance_to(1.0)
+    for bad, msg in [(lambda t: ((0.0, 0.0),), "`x` is not 3 numbers"),
+                     (lambda t: {"pos": (0.0, 0.0, 0.0)}, "unknown key `pos`"),
+                     (lambda t: 3.0, "expected a tuple"),
+                     (lambda t: (), "0 vectors")]:
+        with pytest.raises(ValueError, match=msg):
+            geopid.run("hover-disturbed", duration=0.1, reference=bad)
+
+
 # --- controllers over arrays ------------------------------------------------
 
 
@@ -342,15 +402,21 @@ def test_montecarlo_errors():
         geopid.montecarlo("attitude", samples=1, threads=0)
 
 
-def test_ctrl_c_interrupts_a_long_run_cleanly():
-    """SIGINT while a long study runs: KeyboardInterrupt within a second,
-    and the interpreter goes on."""
+@pytest.mark.parametrize("call", [
+    "geopid.montecarlo('position', samples=100000, seed=1)",
+    "geopid.run('hover-disturbed', duration=1e5, sample=1.0)",
+    "geopid.run('hover-disturbed', duration=1e5, sample=1.0, reference=lambda t: ((0.0, 0.0, 0.0),))",
+])
+def test_ctrl_c_interrupts_a_long_run_cleanly(call):
+    """SIGINT while a long study or run goes on (with the lock released,
+    or with a Python reference on this thread): KeyboardInterrupt within
+    a second or so, and the interpreter goes on."""
     code = (
         "import geopid, signal, threading, os, time\n"
         "threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
         "t = time.time()\n"
         "try:\n"
-        "    geopid.montecarlo('position', samples=100000, seed=1)\n"
+        f"    {call}\n"
         "    print('finished')\n"
         "except KeyboardInterrupt:\n"
         "    print('interrupted after', round(time.time() - t, 1))\n"

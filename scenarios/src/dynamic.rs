@@ -5,7 +5,7 @@
 use dynamics::RigidBodyState;
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, ops};
 
-use crate::from_scene::builder_from;
+use crate::from_scene::{PositionFn, builder_from};
 use crate::scene::{BackendKind, Scalar, Scene, SceneError};
 use crate::{DivergenceGuard, Registry, RunOptions, RunOutput, SimError, Simulation, Termination};
 
@@ -189,6 +189,17 @@ impl SceneSimulation {
         Registry::new().simulation_guarded(scene, guard)
     }
 
+    /// The simulation of `scene` with `guard`, every position-mode
+    /// segment tracking `position` instead of its scene reference (a
+    /// reference computed elsewhere: another language, a planner).
+    pub fn with_position(
+        scene: &Scene,
+        guard: DivergenceGuard,
+        position: PositionFn,
+    ) -> Result<Self, SimError> {
+        Registry::new().simulation_with(scene, guard, Some(position))
+    }
+
     /// Advances to `t`, recording samples ([`Simulation::advance_to`]).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
         self.inner.advance_to_with(t, RunOptions::default())
@@ -253,16 +264,28 @@ impl Registry {
         scene: &Scene,
         guard: DivergenceGuard,
     ) -> Result<SceneSimulation, SimError> {
+        self.simulation_with(scene, guard, None)
+    }
+
+    /// [`Registry::simulation_guarded`] with every position-mode segment
+    /// tracking `position` when given ([`SceneSimulation::with_position`]).
+    pub fn simulation_with(
+        &self,
+        scene: &Scene,
+        guard: DivergenceGuard,
+        position: Option<PositionFn>,
+    ) -> Result<SceneSimulation, SimError> {
         fn on<B: Backend>(
             r: &Registry,
             scene: &Scene,
             guard: DivergenceGuard,
+            position: Option<&PositionFn>,
         ) -> Result<Box<dyn Stepping>, SimError> {
             scene
                 .validate()
                 .and_then(|()| scene.check_kind(&r.kinds()))
                 .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
-            let (vehicle, plan, capacity) = r.parts::<B>(scene)?;
+            let (vehicle, plan, capacity) = r.parts::<B>(scene, position)?;
             Ok(match capacity {
                 6 => Box::new(
                     builder_from::<B, 6>(scene, vehicle, plan)?
@@ -277,11 +300,78 @@ impl Registry {
             })
         }
         let inner = match (scene.scalar, scene.backend) {
-            (Scalar::F64, BackendKind::Nalgebra) => on::<NalgebraF64>(self, scene, guard)?,
-            (Scalar::F64, BackendKind::Glam) => on::<GlamF64>(self, scene, guard)?,
-            (Scalar::F32, BackendKind::Nalgebra) => on::<NalgebraF32>(self, scene, guard)?,
-            (Scalar::F32, BackendKind::Glam) => on::<GlamF32>(self, scene, guard)?,
+            (Scalar::F64, BackendKind::Nalgebra) => {
+                on::<NalgebraF64>(self, scene, guard, position.as_ref())?
+            }
+            (Scalar::F64, BackendKind::Glam) => {
+                on::<GlamF64>(self, scene, guard, position.as_ref())?
+            }
+            (Scalar::F32, BackendKind::Nalgebra) => {
+                on::<NalgebraF32>(self, scene, guard, position.as_ref())?
+            }
+            (Scalar::F32, BackendKind::Glam) => {
+                on::<GlamF32>(self, scene, guard, position.as_ref())?
+            }
         };
         Ok(SceneSimulation { inner })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use controllers::PositionSource;
+    use lie::{Backend, NalgebraF64};
+
+    use super::*;
+    use crate::ScenePosition;
+
+    type B = NalgebraF64;
+
+    fn arrays(r: controllers::PositionReference<B>) -> [[f64; 3]; 8] {
+        [r.x, r.v, r.a, r.jerk, r.snap, r.b1d, r.b1d_dot, r.b1d_ddot].map(B::vec3_to_array)
+    }
+
+    /// The scene's own reference handed back as an f64 function flies the
+    /// same run bit for bit (f64 scene: the conversions are exact), and a
+    /// different one is tracked instead.
+    #[test]
+    fn a_position_function_replaces_the_scene_reference() {
+        let mut scene = crate::load("figure-eight").unwrap();
+        scene.duration = 3.0;
+        let spec = scene.plan[0].position.clone().unwrap();
+        let own = ScenePosition::<B>::new(&spec);
+        let f: PositionFn = Arc::new(move |t| arrays(own.position(t)));
+        let guard = DivergenceGuard::default();
+        let plain = SceneSimulation::new(&scene).unwrap().finish_all();
+        let same = SceneSimulation::with_position(&scene, guard, f)
+            .unwrap()
+            .finish_all();
+        assert_eq!(plain.samples.len(), same.samples.len());
+        for (a, b) in plain.samples.iter().zip(&same.samples) {
+            assert_eq!((a.t, a.x, a.r, a.omega), (b.t, b.x, b.r, b.omega));
+        }
+        // Hold 2 m below the start instead: after 3 s the vehicle is near it.
+        let hold: PositionFn = Arc::new(|_| {
+            let mut r = [[0.0; 3]; 8];
+            r[0] = [0.0, 0.0, -2.0];
+            r[5] = [1.0, 0.0, 0.0];
+            r
+        });
+        let other = SceneSimulation::with_position(&scene, guard, hold)
+            .unwrap()
+            .finish_all();
+        let last = other.samples.last().unwrap();
+        assert_eq!(last.xd, [0.0, 0.0, -2.0]);
+        assert!(last.ex < 0.2, "‖e_x‖ = {}", last.ex);
+    }
+
+    impl SceneSimulation {
+        fn finish_all(mut self) -> RunOutput {
+            let end = self.duration();
+            self.advance_to(end).unwrap();
+            self.finish().unwrap()
+        }
     }
 }

@@ -308,7 +308,7 @@ impl Registry {
             .validate()
             .and_then(|()| scene.check_kind(&self.kinds()))
             .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
-        let (vehicle, plan, capacity) = self.parts::<B>(scene)?;
+        let (vehicle, plan, capacity) = self.parts::<B>(scene, None)?;
         match capacity {
             6 => simulate::<B, 6>(scene, vehicle, plan, opts),
             _ => simulate::<B, 16>(scene, vehicle, plan, opts),
@@ -317,9 +317,13 @@ impl Registry {
 
     /// The vehicle and plan of a validated `scene`, and the extra-state
     /// capacity `N` (6 or 16) they fit.
-    pub(crate) fn parts<B: Backend>(&self, scene: &Scene) -> Result<Parts<B>, SimError> {
+    pub(crate) fn parts<B: Backend>(
+        &self,
+        scene: &Scene,
+        position: Option<&PositionFn>,
+    ) -> Result<Parts<B>, SimError> {
         let vehicle = self.build_vehicle::<B>(scene)?;
-        let plan = plan::<B>(scene, vehicle.as_ref());
+        let plan = plan_with::<B>(scene, vehicle.as_ref(), position);
         let integrals = plan
             .iter()
             .map(|s| s.mode.integral_count())
@@ -442,6 +446,38 @@ fn gains<B: Backend>(
 /// entered, later ones keep it (the paper's "when position mode first
 /// starts").
 pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<'static, B>> {
+    plan_with(scene, vehicle, None)
+}
+
+/// A position reference given in f64, whatever the simulation's scalar:
+/// `t ↦ [x_d, ẋ_d, ẍ_d, x_d⁽³⁾, x_d⁽⁴⁾, b1d, ḃ1d, b̈1d]` (a front end's
+/// callable, say; see [`crate::SceneSimulation::with_position`]).
+pub type PositionFn = Arc<dyn Fn(f64) -> [[f64; 3]; 8] + Send + Sync>;
+
+/// `f` as a [`PositionSource`](controllers::PositionSource) on `B`.
+fn position_source<B: Backend>(f: PositionFn) -> impl Fn(S<B>) -> PositionReference<B> {
+    move |t: S<B>| {
+        let [x, v_, a, jerk, snap, b1d, b1d_dot, b1d_ddot] = f(t.to_f64_lossless()).map(v::<B>);
+        PositionReference {
+            x,
+            v: v_,
+            a,
+            jerk,
+            snap,
+            b1d,
+            b1d_dot,
+            b1d_ddot,
+        }
+    }
+}
+
+/// [`plan`] with every position-mode segment tracking `position` instead
+/// of its scene reference, when given.
+fn plan_with<B: Backend>(
+    scene: &Scene,
+    vehicle: &dyn Vehicle<B>,
+    position: Option<&PositionFn>,
+) -> Vec<Segment<'static, B>> {
     let (params, pg, ag, model) = gains::<B>(scene, vehicle);
     let hover = params.mass * params.gravity;
     let mut position_seen = false;
@@ -464,12 +500,17 @@ pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<
                     Box::new(AttitudeMode::new(params, ag, a, thrust))
                 }
                 crate::scene::ModeKind::Position => {
-                    let p = ScenePosition::<B>::new(s.position.as_ref().expect("validated"));
-                    let mode = PositionMode::new(params, pg, ag, model, p);
-                    if std::mem::replace(&mut position_seen, true) {
-                        Box::new(mode.keep_integral_on_entry())
-                    } else {
-                        Box::new(mode)
+                    let keep = std::mem::replace(&mut position_seen, true);
+                    match position {
+                        Some(f) => {
+                            let p = position_source::<B>(f.clone());
+                            position_mode(PositionMode::new(params, pg, ag, model, p), keep)
+                        }
+                        None => {
+                            let p =
+                                ScenePosition::<B>::new(s.position.as_ref().expect("validated"));
+                            position_mode(PositionMode::new(params, pg, ag, model, p), keep)
+                        }
                     }
                 }
             };
@@ -481,6 +522,19 @@ pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<
             Segment { mode, until }
         })
         .collect()
+}
+
+/// The paper's position mode, keeping `e_i` on entry after the first
+/// position segment (the paper's "when position mode first starts").
+fn position_mode<B: Backend, P: controllers::PositionSource<B> + 'static>(
+    mode: PositionMode<B, P>,
+    keep: bool,
+) -> Box<dyn Mode<B>> {
+    if keep {
+        Box::new(mode.keep_integral_on_entry())
+    } else {
+        Box::new(mode)
+    }
 }
 
 /// Builds the built-in vehicle of a scene (a [`VehicleKind::Custom`] kind

@@ -64,7 +64,9 @@ mod sim;
 pub mod stress;
 
 pub use dynamic::{SceneSimulation, StateF64};
-pub use from_scene::{Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan};
+pub use from_scene::{
+    PositionFn, Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan,
+};
 pub use overrides::Overrides;
 pub use scene::{Scene, SceneError};
 pub use sim::{
