@@ -131,6 +131,22 @@ pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
             ];
             (d, [1.0, 0.0, 0.0])
         }
+        PositionRef::Circle {
+            center,
+            radius,
+            omega,
+        } => {
+            let (r, w) = (*radius, *omega);
+            let (s, c) = (w * t).sin_cos();
+            let d = [
+                [center[0] + r * c, center[1] + r * s, center[2]],
+                [-r * w * s, r * w * c, 0.0],
+                [-r * w * w * c, -r * w * w * s, 0.0],
+                [r * w.powi(3) * s, -r * w.powi(3) * c, 0.0],
+                [r * w.powi(4) * c, r * w.powi(4) * s, 0.0],
+            ];
+            (d, [1.0, 0.0, 0.0])
+        }
     }
 }
 

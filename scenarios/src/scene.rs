@@ -375,6 +375,16 @@ pub enum PositionRef {
         /// ω, rad/s.
         omega: f64,
     },
+    /// Circle x_d = c + r (cos ωt, sin ωt, 0), b1d = e1; ω < 0 turns the
+    /// other way (RotorPy's z-up circle seen with e3 down).
+    Circle {
+        /// Centre, m.
+        center: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+        /// ω, rad/s.
+        omega: f64,
+    },
 }
 
 /// Integrator choice.
@@ -820,6 +830,15 @@ fn validate_references(k: usize, seg: &SegmentSpec) -> Result<(), (&'static str,
             num3("center", center)?;
             num("a", *a)?;
             num("b", *b)?;
+            num("omega", *omega)?;
+        }
+        Some(PositionRef::Circle {
+            center,
+            radius,
+            omega,
+        }) => {
+            num3("center", center)?;
+            num("radius", *radius)?;
             num("omega", *omega)?;
         }
         None => {}

@@ -93,6 +93,19 @@ fn a_closure_reference_flies_exactly_as_the_scene_reference() {
         bad[3] > 0.1 && bad[..3].iter().all(|e| *e < 1e-7),
         "{bad:?}"
     );
+    // The circle's derivatives too, turning either way.
+    for omega in [1.2566, -1.2566] {
+        let c = PositionRef::Circle {
+            center: [0.0, 0.0, -1.0],
+            radius: 1.0,
+            omega,
+        };
+        let f = |t: f64| scenarios::reference::position::<B>(&c, t);
+        let m = derivative_mismatch(&f, 0.0, 10.0, 50);
+        assert!(m.iter().all(|e| *e < 1e-7), "{m:?}");
+        let x = position_f64(&c, std::f64::consts::FRAC_PI_2 / omega.abs()).0[0];
+        assert!((x[0] - 0.0).abs() < 1e-12 && (x[1] - omega.signum()).abs() < 1e-12);
+    }
 }
 
 #[test]
