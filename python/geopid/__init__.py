@@ -302,6 +302,7 @@ def position_control(
     references: Optional[Mapping[str, Any]] = None,
     gains: Optional[Mapping[str, Any]] = None,
     params: Optional[Mapping[str, Any]] = None,
+    outputs: Optional[Sequence[str]] = None,
 ) -> Dict[str, np.ndarray]:
     """The paper's position law for N states at once.
 
@@ -317,12 +318,15 @@ def position_control(
 
     Returns ``thrust``, ``psi`` (N,), ``moment``, ``omega_c``,
     ``omega_c_dot``, ``e_x``, ``e_v``, ``e_R``, ``e_omega``,
-    ``e_i_pos_rate``, ``e_i_att_rate`` (N, 3) and ``Rc`` (N, 3, 3).
-    A wrong shape, unknown key or non-finite input raises ``ValueError``
-    naming the field (and the row).
+    ``e_i_pos_rate``, ``e_i_att_rate`` (N, 3) and ``Rc`` (N, 3, 3), or
+    only those named in ``outputs`` (``["thrust", "moment"]`` for a
+    simulator that needs the wrench: over many states the fresh arrays
+    cost as much as the law). A wrong shape, unknown key or non-finite
+    input raises ``ValueError`` naming the field (and the row).
     """
     g = None if gains is None else json.dumps(dict(gains))
-    return _geopid.position_control(_arrays(states), _arrays(references), g, params)
+    sel = None if outputs is None else [str(o) for o in outputs]
+    return _geopid.position_control(_arrays(states), _arrays(references), g, params, sel)
 
 
 def attitude_control(

@@ -88,6 +88,7 @@ def position_control(
     references: Optional[Dict[str, np.ndarray]] = None,
     gains_json: Optional[str] = None,
     params: Optional[Dict[str, Any]] = None,
+    outputs: Optional[List[str]] = None,
 ) -> Dict[str, np.ndarray]:
     """The position law over N states."""
 

@@ -35,11 +35,6 @@ fn push3(to: &mut Vec<f64>, v: V3<B>) {
     to.extend_from_slice(&B::vec3_to_array(v));
 }
 
-#[inline]
-fn push9(to: &mut Vec<f64>, m: M3<B>) {
-    to.extend(ops::elems::<B>(m).into_iter().flatten());
-}
-
 /// The gains from a JSON object with the scene file's `[gains]` keys (any
 /// left out: the paper's); an unknown key or a bad value is a
 /// `ValueError` naming it.
@@ -192,19 +187,67 @@ fn params_of(d: Option<&Bound<'_, PyDict>>) -> PyResult<RigidBodyParams<B>> {
     params(mass, inertia, gravity)
 }
 
+/// What the position law returns, in order, and each one's values per
+/// state.
+const POSITION_OUTPUTS: [&str; 12] = [
+    "thrust",
+    "moment",
+    "Rc",
+    "omega_c",
+    "omega_c_dot",
+    "e_x",
+    "e_v",
+    "e_R",
+    "e_omega",
+    "psi",
+    "e_i_pos_rate",
+    "e_i_att_rate",
+];
+const POSITION_WIDTHS: [usize; 12] = [1, 3, 9, 3, 3, 3, 3, 3, 3, 1, 3, 3];
+
+/// Which of `names` to return: all without a selection; an unknown name
+/// is a `ValueError` listing the known ones.
+fn selected<const K: usize>(
+    outputs: Option<Vec<String>>,
+    names: &[&str; K],
+) -> PyResult<[bool; K]> {
+    let Some(list) = outputs else {
+        return Ok([true; K]);
+    };
+    let mut want = [false; K];
+    for o in list {
+        let k = names.iter().position(|n| *n == o).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "outputs: unknown `{o}`: expected {}",
+                names.join(", ")
+            ))
+        })?;
+        want[k] = true;
+    }
+    Ok(want)
+}
+
+fn flat9(m: M3<B>) -> [f64; 9] {
+    let e = ops::elems::<B>(m);
+    [
+        e[0][0], e[0][1], e[0][2], e[1][0], e[1][1], e[1][2], e[2][0], e[2][1], e[2][2],
+    ]
+}
+
 /// The position law (eqn:f, eqn:M with R_c, Ω_c, Ω̇_c from eqn:RdWc) for
 /// each of the N states: `states` holds `x`, `v`, `R`, `omega`,
 /// `e_i_pos`, `e_i_att`; `references` `x`, `v`, `a`, `jerk`, `snap`,
 /// `b1d`, `b1d_dot`, `b1d_ddot` (each `(N, 3)` or `(3,)`; left out: zero,
 /// `b1d` = e1).
 #[pyfunction]
-#[pyo3(signature = (states, references=None, gains_json=None, params=None))]
+#[pyo3(signature = (states, references=None, gains_json=None, params=None, outputs=None))]
 pub(crate) fn position_control<'py>(
     py: Python<'py>,
     states: &Bound<'py, PyDict>,
     references: Option<&Bound<'py, PyDict>>,
     gains_json: Option<&str>,
     params: Option<&Bound<'py, PyDict>>,
+    outputs: Option<Vec<String>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let st = ["x", "v", "R", "omega", "e_i_pos", "e_i_att"];
     known_keys("states", Some(states), &st)?;
@@ -236,22 +279,11 @@ pub(crate) fn position_control<'py>(
         AccelModel::Nominal => AccelerationModel::Nominal,
         AccelModel::NominalWithoutEstimate => AccelerationModel::NominalWithoutEstimate,
     };
-    let names = [
-        "thrust",
-        "moment",
-        "Rc",
-        "omega_c",
-        "omega_c_dot",
-        "e_x",
-        "e_v",
-        "e_R",
-        "e_omega",
-        "psi",
-        "e_i_pos_rate",
-        "e_i_att_rate",
-    ];
-    let mut cols: Vec<Vec<f64>> = (0..names.len())
-        .map(|_| Vec::with_capacity(9 * n))
+    let want = selected(outputs, &POSITION_OUTPUTS)?;
+    let mut cols: Vec<Vec<f64>> = POSITION_WIDTHS
+        .iter()
+        .zip(&want)
+        .map(|(w, on)| Vec::with_capacity(if *on { w * n } else { 0 }))
         .collect();
     for i in 0..n {
         let state = VehicleState {
@@ -279,21 +311,34 @@ pub(crate) fn position_control<'py>(
             model,
         };
         let o = rs_position(&p, &pg, &ag, &input).map_err(|e| control_error(py, i, e))?;
-        cols[0].push(o.thrust);
-        push3(&mut cols[1], o.moment);
-        push9(&mut cols[2], o.rc.matrix());
-        for (k, w) in [o.omega_c, o.omega_c_dot, o.e_x, o.e_v, o.e_r, o.e_omega]
-            .into_iter()
-            .enumerate()
-        {
-            push3(&mut cols[3 + k], w);
+        let a3 = B::vec3_to_array;
+        let rc: [f64; 9] = flat9(o.rc.matrix());
+        let values: [&[f64]; 12] = [
+            &[o.thrust],
+            &a3(o.moment),
+            &rc,
+            &a3(o.omega_c),
+            &a3(o.omega_c_dot),
+            &a3(o.e_x),
+            &a3(o.e_v),
+            &a3(o.e_r),
+            &a3(o.e_omega),
+            &[o.psi],
+            &a3(o.e_i_pos_rate),
+            &a3(o.e_i_att_rate),
+        ];
+        for ((col, on), v) in cols.iter_mut().zip(&want).zip(values) {
+            if *on {
+                col.extend_from_slice(v);
+            }
         }
-        cols[9].push(o.psi);
-        push3(&mut cols[10], o.e_i_pos_rate);
-        push3(&mut cols[11], o.e_i_att_rate);
     }
+    let names = POSITION_OUTPUTS;
     let d = PyDict::new(py);
     for (k, (name, data)) in names.iter().zip(cols).enumerate() {
+        if !want[k] {
+            continue;
+        }
         let shape: &[usize] = match k {
             0 | 9 => &[n],
             2 => &[n, 3, 3],

@@ -325,6 +325,12 @@ def test_position_control_rows_match_single_calls_and_gains_matter():
     assert not np.allclose(softer["thrust"], all_rows["thrust"])
     # e_x is x − x_d, whatever the gains.
     assert np.allclose(all_rows["e_x"], st["x"] - ref["x"])
+    # A selection returns just those, with the same values.
+    some = geopid.position_control(st, ref, outputs=["thrust", "moment"])
+    assert set(some) == {"thrust", "moment"}
+    assert np.array_equal(some["moment"], all_rows["moment"])
+    with pytest.raises(ValueError, match="unknown `torque`"):
+        geopid.position_control(st, ref, outputs=["torque"])
 
 
 def test_attitude_control_against_the_closed_form():
