@@ -12,6 +12,7 @@ use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rayon::prelude::*;
 use scenarios::scene::{AccelModel, GainsSpec};
 
 use crate::arrays::{Col, array, input_col};
@@ -234,6 +235,115 @@ fn flat9(m: M3<B>) -> [f64; 9] {
     ]
 }
 
+/// Rows below this many run on the calling thread (a pool's hand-off
+/// costs more than the law for them).
+const PARALLEL_ROWS: usize = 4096;
+
+/// A row's control error: its index and the law's complaint.
+type RowError = (usize, controllers::ControlError);
+
+/// Runs `block` over `0..n` in contiguous blocks on rayon's pool (one
+/// block below `PARALLEL_ROWS` rows) and joins each output column in row
+/// order; a failing row's error, if any (with several, any one of them).
+fn in_blocks<F>(n: usize, block: F) -> Result<Vec<Vec<f64>>, RowError>
+where
+    F: Fn(std::ops::Range<usize>) -> Result<Vec<Vec<f64>>, RowError> + Sync,
+{
+    if n < PARALLEL_ROWS {
+        return block(0..n);
+    }
+    let blocks = 4 * rayon::current_num_threads();
+    let size = n.div_ceil(blocks);
+    let parts: Vec<Vec<Vec<f64>>> = (0..blocks)
+        .into_par_iter()
+        .map(|b| block(b * size..((b + 1) * size).min(n)))
+        .collect::<Result<_, _>>()?;
+    let mut cols = parts[0].clone();
+    for part in &parts[1..] {
+        for (col, piece) in cols.iter_mut().zip(part) {
+            col.extend_from_slice(piece);
+        }
+    }
+    Ok(cols)
+}
+
+/// Everything the position law needs for every row, checked.
+struct PositionInputs {
+    xs: Col,
+    vs: Col,
+    rs: Col,
+    ws: Col,
+    eip: Col,
+    eia: Col,
+    refs: Vec<Col>,
+    p: RigidBodyParams<B>,
+    pg: PositionGains<B>,
+    ag: AttitudeGains<B>,
+    model: AccelerationModel<B>,
+    want: [bool; 12],
+}
+
+impl PositionInputs {
+    /// The law over `rows`: the wanted output columns of those rows.
+    fn run(&self, rows: std::ops::Range<usize>) -> Result<Vec<Vec<f64>>, RowError> {
+        let len = rows.len();
+        let mut cols: Vec<Vec<f64>> = POSITION_WIDTHS
+            .iter()
+            .zip(&self.want)
+            .map(|(w, on)| Vec::with_capacity(if *on { w * len } else { 0 }))
+            .collect();
+        for i in rows {
+            let state = VehicleState {
+                x: v3(&self.xs, i),
+                v: v3(&self.vs, i),
+                r: So3Mat::<B>::from_matrix_unchecked(m3(&self.rs, i)),
+                omega: v3(&self.ws, i),
+            };
+            let r = |k: usize| v3(&self.refs[k], i);
+            let reference = PositionReference {
+                x: r(0),
+                v: r(1),
+                a: r(2),
+                jerk: r(3),
+                snap: r(4),
+                b1d: r(5),
+                b1d_dot: r(6),
+                b1d_ddot: r(7),
+            };
+            let input = PositionInput {
+                state: &state,
+                e_i_pos: v3(&self.eip, i),
+                e_i_att: v3(&self.eia, i),
+                reference: &reference,
+                model: self.model,
+            };
+            let o = rs_position(&self.p, &self.pg, &self.ag, &input).map_err(|e| (i, e))?;
+            let a3 = B::vec3_to_array;
+            let rc: [f64; 9] = flat9(o.rc.matrix());
+            let values: [&[f64]; 12] = [
+                &[o.thrust],
+                &a3(o.moment),
+                &rc,
+                &a3(o.omega_c),
+                &a3(o.omega_c_dot),
+                &a3(o.e_x),
+                &a3(o.e_v),
+                &a3(o.e_r),
+                &a3(o.e_omega),
+                &[o.psi],
+                &a3(o.e_i_pos_rate),
+                &a3(o.e_i_att_rate),
+            ];
+            for ((col, on), v) in cols.iter_mut().zip(&self.want).zip(values) {
+                if *on {
+                    col.extend_from_slice(v);
+                }
+            }
+        }
+        Ok(cols)
+    }
+}
+
 /// The position law (eqn:f, eqn:M with R_c, Ω_c, Ω̇_c from eqn:RdWc) for
 /// each of the N states: `states` holds `x`, `v`, `R`, `omega`,
 /// `e_i_pos`, `e_i_att`; `references` `x`, `v`, `a`, `jerk`, `snap`,
@@ -280,59 +390,23 @@ pub(crate) fn position_control<'py>(
         AccelModel::NominalWithoutEstimate => AccelerationModel::NominalWithoutEstimate,
     };
     let want = selected(outputs, &POSITION_OUTPUTS)?;
-    let mut cols: Vec<Vec<f64>> = POSITION_WIDTHS
-        .iter()
-        .zip(&want)
-        .map(|(w, on)| Vec::with_capacity(if *on { w * n } else { 0 }))
-        .collect();
-    for i in 0..n {
-        let state = VehicleState {
-            x: v3(&xs, i),
-            v: v3(&vs, i),
-            r: So3Mat::<B>::from_matrix_unchecked(m3(&rs, i)),
-            omega: v3(&ws, i),
-        };
-        let r = |k: usize| v3(&refs[k], i);
-        let reference = PositionReference {
-            x: r(0),
-            v: r(1),
-            a: r(2),
-            jerk: r(3),
-            snap: r(4),
-            b1d: r(5),
-            b1d_dot: r(6),
-            b1d_ddot: r(7),
-        };
-        let input = PositionInput {
-            state: &state,
-            e_i_pos: v3(&eip, i),
-            e_i_att: v3(&eia, i),
-            reference: &reference,
-            model,
-        };
-        let o = rs_position(&p, &pg, &ag, &input).map_err(|e| control_error(py, i, e))?;
-        let a3 = B::vec3_to_array;
-        let rc: [f64; 9] = flat9(o.rc.matrix());
-        let values: [&[f64]; 12] = [
-            &[o.thrust],
-            &a3(o.moment),
-            &rc,
-            &a3(o.omega_c),
-            &a3(o.omega_c_dot),
-            &a3(o.e_x),
-            &a3(o.e_v),
-            &a3(o.e_r),
-            &a3(o.e_omega),
-            &[o.psi],
-            &a3(o.e_i_pos_rate),
-            &a3(o.e_i_att_rate),
-        ];
-        for ((col, on), v) in cols.iter_mut().zip(&want).zip(values) {
-            if *on {
-                col.extend_from_slice(v);
-            }
-        }
-    }
+    let inputs = PositionInputs {
+        xs,
+        vs,
+        rs,
+        ws,
+        eip,
+        eia,
+        refs,
+        p,
+        pg,
+        ag,
+        model,
+        want,
+    };
+    let cols = py
+        .detach(|| in_blocks(n, |rows| inputs.run(rows)))
+        .map_err(|(i, e)| control_error(py, i, e))?;
     let names = POSITION_OUTPUTS;
     let d = PyDict::new(py);
     for (k, (name, data)) in names.iter().zip(cols).enumerate() {

@@ -325,6 +325,13 @@ def test_position_control_rows_match_single_calls_and_gains_matter():
     assert not np.allclose(softer["thrust"], all_rows["thrust"])
     # e_x is x − x_d, whatever the gains.
     assert np.allclose(all_rows["e_x"], st["x"] - ref["x"])
+    # Over many states the rows are split across threads: the same values.
+    big = _hover_states(6000, rng)
+    whole = geopid.position_control(big, ref)
+    for lo in range(0, 6000, 1000):
+        part = geopid.position_control({k: v[lo:lo + 1000] for k, v in big.items()}, ref)
+        for name in ("thrust", "moment", "Rc", "omega_c_dot"):
+            assert np.array_equal(part[name], whole[name][lo:lo + 1000]), name
     # A selection returns just those, with the same values.
     some = geopid.position_control(st, ref, outputs=["thrust", "moment"])
     assert set(some) == {"thrust", "moment"}
