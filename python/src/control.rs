@@ -242,27 +242,56 @@ const PARALLEL_ROWS: usize = 4096;
 /// A row's control error: its index and the law's complaint.
 type RowError = (usize, controllers::ControlError);
 
-/// Runs `block` over `0..n` in contiguous blocks on rayon's pool (one
-/// block below `PARALLEL_ROWS` rows) and joins each output column in row
-/// order; a failing row's error, if any (with several, any one of them).
-fn in_blocks<F>(n: usize, block: F) -> Result<Vec<Vec<f64>>, RowError>
+/// Output columns of `widths[k]` values a row for `n` rows (empty where
+/// not `want`ed), filled by `block(rows, slices)` over contiguous blocks
+/// of rows on rayon's pool (one block below `PARALLEL_ROWS` rows), each
+/// block writing its rows' part of every column in place; a failing
+/// row's error, if any (with several, any one of them).
+fn in_blocks<F>(
+    n: usize,
+    widths: &[usize],
+    want: &[bool],
+    block: F,
+) -> Result<Vec<Vec<f64>>, RowError>
 where
-    F: Fn(std::ops::Range<usize>) -> Result<Vec<Vec<f64>>, RowError> + Sync,
+    F: Fn(std::ops::Range<usize>, &mut [&mut [f64]]) -> Result<(), RowError> + Sync,
 {
-    if n < PARALLEL_ROWS {
-        return block(0..n);
-    }
-    let blocks = 4 * rayon::current_num_threads();
-    let size = n.div_ceil(blocks);
-    let parts: Vec<Vec<Vec<f64>>> = (0..blocks)
-        .into_par_iter()
-        .map(|b| block(b * size..((b + 1) * size).min(n)))
-        .collect::<Result<_, _>>()?;
-    let mut cols = parts[0].clone();
-    for part in &parts[1..] {
-        for (col, piece) in cols.iter_mut().zip(part) {
-            col.extend_from_slice(piece);
+    let mut cols: Vec<Vec<f64>> = widths
+        .iter()
+        .zip(want)
+        .map(|(w, on)| vec![0.0; if *on { w * n } else { 0 }])
+        .collect();
+    let blocks = if n < PARALLEL_ROWS {
+        1
+    } else {
+        4 * rayon::current_num_threads()
+    };
+    let size = n.div_ceil(blocks).max(1);
+    // Block b's slice of every column: rows b·size.. of it.
+    let mut parts: Vec<(std::ops::Range<usize>, Vec<&mut [f64]>)> = (0..blocks)
+        .map(|b| {
+            (
+                b * size..((b + 1) * size).min(n),
+                Vec::with_capacity(cols.len()),
+            )
+        })
+        .collect();
+    for (col, w) in cols.iter_mut().zip(widths) {
+        let mut rest: &mut [f64] = col;
+        for (rows, slices) in parts.iter_mut() {
+            let take = if rest.is_empty() { 0 } else { rows.len() * w };
+            let (head, tail) = std::mem::take(&mut rest).split_at_mut(take);
+            slices.push(head);
+            rest = tail;
         }
+    }
+    if blocks == 1 {
+        let (rows, slices) = &mut parts[0];
+        block(rows.clone(), slices)?;
+    } else {
+        parts
+            .into_par_iter()
+            .try_for_each(|(rows, mut slices)| block(rows, &mut slices))?;
     }
     Ok(cols)
 }
@@ -284,14 +313,10 @@ struct PositionInputs {
 }
 
 impl PositionInputs {
-    /// The law over `rows`: the wanted output columns of those rows.
-    fn run(&self, rows: std::ops::Range<usize>) -> Result<Vec<Vec<f64>>, RowError> {
-        let len = rows.len();
-        let mut cols: Vec<Vec<f64>> = POSITION_WIDTHS
-            .iter()
-            .zip(&self.want)
-            .map(|(w, on)| Vec::with_capacity(if *on { w * len } else { 0 }))
-            .collect();
+    /// The law over `rows`, written into `out` (the wanted columns'
+    /// slices for those rows; empty for the others).
+    fn run(&self, rows: std::ops::Range<usize>, out: &mut [&mut [f64]]) -> Result<(), RowError> {
+        let first = rows.start;
         for i in rows {
             let state = VehicleState {
                 x: v3(&self.xs, i),
@@ -334,13 +359,14 @@ impl PositionInputs {
                 &a3(o.e_i_pos_rate),
                 &a3(o.e_i_att_rate),
             ];
-            for ((col, on), v) in cols.iter_mut().zip(&self.want).zip(values) {
+            let j = i - first;
+            for ((col, on), v) in out.iter_mut().zip(&self.want).zip(values) {
                 if *on {
-                    col.extend_from_slice(v);
+                    col[j * v.len()..(j + 1) * v.len()].copy_from_slice(v);
                 }
             }
         }
-        Ok(cols)
+        Ok(())
     }
 }
 
@@ -405,7 +431,11 @@ pub(crate) fn position_control<'py>(
         want,
     };
     let cols = py
-        .detach(|| in_blocks(n, |rows| inputs.run(rows)))
+        .detach(|| {
+            in_blocks(n, &POSITION_WIDTHS, &want, |rows, out| {
+                inputs.run(rows, out)
+            })
+        })
         .map_err(|(i, e)| control_error(py, i, e))?;
     let names = POSITION_OUTPUTS;
     let d = PyDict::new(py);
