@@ -417,6 +417,13 @@ mod tests {
 
     /// Two shards merged give the single run's samples.csv byte for byte;
     /// a missing shard is an error naming the gap.
+    /// The library's `Setup::default` (what the Python package and a Rust
+    /// study start from) is the command line's defaults.
+    #[test]
+    fn library_defaults_are_the_command_lines() {
+        assert_eq!(setup_from_args(&default_args()), Setup::default());
+    }
+
     #[test]
     fn shards_merged_equal_one_run() {
         let mut setup = setup_from_args(&default_args());

@@ -14,21 +14,7 @@ fn ks(mut xs: Vec<f64>, f: impl Fn(f64) -> f64) -> f64 {
 }
 
 fn setup() -> Setup {
-    Setup {
-        experiment: "position".into(),
-        samples: 1000,
-        seed: 1,
-        omega_max: 2.0,
-        x_max: 2.0,
-        v_max: 1.0,
-        psi_tol: 1e-3,
-        x_tol: 1e-2,
-        deadline: 60.0,
-        hold: 0.5,
-        integrator: "dopri".into(),
-        dt: 0.02,
-        tol: 1e-6,
-    }
+    Setup::default()
 }
 
 /// The rotation angle of a uniform rotation has density (1 − cos θ)/π,
