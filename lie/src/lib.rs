@@ -74,6 +74,7 @@ compile_error!("lie needs either the `std` or the `libm` feature for its maths f
 
 mod backend;
 mod convert;
+mod group;
 mod backends {
     #[cfg(feature = "glam")]
     pub mod glam;
@@ -93,6 +94,7 @@ pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
 pub use convert::{log_wxyz, shepperd};
+pub use group::{LieGroup, Matrix3x6, mul6, se3_left_jacobian_inv};
 pub use num_traits;
 pub use quat::So3Quat;
 pub use real::Real;

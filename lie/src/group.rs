@@ -1,0 +1,404 @@
+//! One trait for the Lie groups of this crate, with the operations
+//! estimation and optimisation code is written in: ⊕ and ⊖ on either
+//! side, `between`, and the Jacobians of each with respect to each
+//! argument.
+//!
+//! Conventions (those of Solà, Deray & Atchuthan, "A micro Lie theory for
+//! state estimation in robotics", 2018, and of the manif library):
+//!
+//! - `X ⊕ τ = X·Exp(τ)` ([`LieGroup::rplus`]) and `Y ⊖ X = Log(X⁻¹·Y)`
+//!   ([`LieGroup::rminus`]): perturbations are **right** (local, in the
+//!   tangent space at `X`); `lplus`/`lminus` are the left (global)
+//!   versions, `Exp(τ)·X` and `Log(Y·X⁻¹)`.
+//! - A Jacobian `J = Df/DX` of `f: M → N` is the matrix with
+//!   `f(X ⊕ τ) ⊖ f(X) ≈ J τ` for small `τ` (right perturbations on both
+//!   sides); for a vector argument or value the plus and minus are the
+//!   ordinary ones.
+//! - SO(3) tangents are rotation vectors `φ` (3); SE(3) tangents are
+//!   twists `(ρ, φ)`, translation first (6), as [`Twist`] orders them.
+//!
+//! `So3Mat` and `So3Quat` also implement [`Rotation`], which shares some
+//! method names (`exp`, `log`, `compose` …) with the same meaning; import
+//! the one trait a piece of code is written against (the prelude brings
+//! `Rotation`), or call through `LieGroup::exp(…)`.
+//!
+//! ```
+//! use lie::{Backend, LieGroup, NalgebraF64, So3Mat, ops};
+//! type B = NalgebraF64;
+//! // One EKF step on SO(3): predict with a gyro increment, correct with an
+//! // attitude measurement, covariance carried in the tangent space.
+//! let v = |x, y, z| B::vec3(x, y, z);
+//! let mut x = So3Mat::<B>::identity();
+//! let mut p = ops::diag::<B>(0.01, 0.01, 0.01);
+//! let (x1, j_x, j_u) = x.rplus_jac(v(0.0, 0.0, 0.1));       // X ⊕ ω Δt
+//! let q = ops::diag::<B>(1e-4, 1e-4, 1e-4);                 // gyro noise
+//! p = j_x * p * B::mat3_transpose(j_x) + j_u * q * B::mat3_transpose(j_u);
+//! x = x1;
+//! let y = So3Mat::<B>::exp(v(0.02, -0.01, 0.1));            // a measurement
+//! let (z, h, _) = y.rminus_jac(x);                          // z = y ⊖ x, H = ∂z/∂x
+//! let r = ops::diag::<B>(1e-3, 1e-3, 1e-3);
+//! let s = h * p * B::mat3_transpose(h) + r;
+//! let k = p * B::mat3_transpose(h) * ops::inverse::<B>(s).unwrap();
+//! x = x.rplus(k * z);                                       // correct
+//! p = (ops::identity::<B>() - k * h) * p;
+//! assert!(x.rminus(y).norm() < z.norm());                   // closer to the measurement
+//! assert!(p[(0, 0)] < 0.0101 && p[(0, 0)] > 0.0);
+//! ```
+
+use num_traits::Zero;
+
+use crate::backend::ops;
+use crate::se3::{Matrix6, Se3, Twist, se3_left_jacobian};
+use crate::{Backend, M3, Real, Rotation, S, So3Mat, So3Quat, V3, so3};
+
+/// A `3 × 6` matrix, row-major: the Jacobian of an SE(3) action with
+/// respect to the transform.
+pub type Matrix3x6<T> = [[T; 6]; 3];
+
+/// A matrix Lie group: its operations and their Jacobians (see the
+/// module docs for the conventions).
+pub trait LieGroup<B: Backend>: Copy {
+    /// Degrees of freedom: the tangent space's dimension.
+    const DOF: usize;
+    /// A tangent vector (`V3` for SO(3), [`Twist`] for SE(3)).
+    type Tangent: Copy;
+    /// A `DOF × DOF` matrix (Jacobians, the adjoint).
+    type Jacobian: Copy;
+    /// The `3 × DOF` Jacobian of [`LieGroup::act`] with respect to the group
+    /// element.
+    type ActJacobian: Copy;
+
+    /// The identity.
+    fn identity() -> Self;
+    /// `X·Y`.
+    fn compose(self, rhs: Self) -> Self;
+    /// `X⁻¹`.
+    fn inverse(self) -> Self;
+    /// `X·p` for a point `p`.
+    fn act(self, p: V3<B>) -> V3<B>;
+    /// `Exp(τ)`.
+    fn exp(tau: Self::Tangent) -> Self;
+    /// `Log(X)`.
+    fn log(self) -> Self::Tangent;
+    /// `Adj(X)`, with `Adj(X)·τ = Log(X·Exp(τ)·X⁻¹)`.
+    fn adjoint(self) -> Self::Jacobian;
+    /// The right Jacobian `J_r(τ)`: `Exp(τ + δ) ≈ Exp(τ)·Exp(J_r(τ)·δ)`.
+    fn right_jacobian(tau: Self::Tangent) -> Self::Jacobian;
+    /// `J_r(τ)⁻¹`.
+    fn right_jacobian_inv(tau: Self::Tangent) -> Self::Jacobian;
+    /// `X·p` with its Jacobians with respect to `X` and to `p`.
+    fn act_jac(self, p: V3<B>) -> (V3<B>, Self::ActJacobian, M3<B>);
+
+    /// `−τ`.
+    fn tangent_neg(tau: Self::Tangent) -> Self::Tangent;
+    /// The tangent's coordinates in the first `DOF` slots.
+    fn tangent_to_coords(tau: Self::Tangent) -> [S<B>; 6];
+    /// A tangent from the first `DOF` coordinates.
+    fn tangent_from_coords(c: [S<B>; 6]) -> Self::Tangent;
+    /// Element `(row, col)` of a Jacobian.
+    fn jacobian_entry(j: &Self::Jacobian, row: usize, col: usize) -> S<B>;
+    /// Element `(row, col)` of an action Jacobian (`row < 3`).
+    fn act_jacobian_entry(j: &Self::ActJacobian, row: usize, col: usize) -> S<B>;
+    /// `J·τ`.
+    fn jacobian_apply(j: &Self::Jacobian, tau: Self::Tangent) -> Self::Tangent;
+    /// The identity matrix.
+    fn jacobian_identity() -> Self::Jacobian;
+    /// `A·B`.
+    fn jacobian_mul(a: Self::Jacobian, b: Self::Jacobian) -> Self::Jacobian;
+    /// `−A`.
+    fn jacobian_neg(a: Self::Jacobian) -> Self::Jacobian;
+
+    /// The left Jacobian `J_l(τ) = J_r(−τ)`.
+    fn left_jacobian(tau: Self::Tangent) -> Self::Jacobian {
+        Self::right_jacobian(Self::tangent_neg(tau))
+    }
+    /// `J_l(τ)⁻¹`.
+    fn left_jacobian_inv(tau: Self::Tangent) -> Self::Jacobian {
+        Self::right_jacobian_inv(Self::tangent_neg(tau))
+    }
+    /// `X ⊕ τ = X·Exp(τ)`.
+    fn rplus(self, tau: Self::Tangent) -> Self {
+        self.compose(Self::exp(tau))
+    }
+    /// `τ ⊕ X = Exp(τ)·X`.
+    fn lplus(self, tau: Self::Tangent) -> Self {
+        Self::exp(tau).compose(self)
+    }
+    /// `Y ⊖ X = Log(X⁻¹·Y)` with `self = Y`.
+    fn rminus(self, x: Self) -> Self::Tangent {
+        x.inverse().compose(self).log()
+    }
+    /// `Log(Y·X⁻¹)` with `self = Y`.
+    fn lminus(self, x: Self) -> Self::Tangent {
+        self.compose(x.inverse()).log()
+    }
+    /// `X⁻¹·Y` with `self = X`.
+    fn between(self, y: Self) -> Self {
+        self.inverse().compose(y)
+    }
+    /// `X·Y` with `∂/∂X = Adj(Y)⁻¹ = Adj(Y⁻¹)` and `∂/∂Y = I`.
+    fn compose_jac(self, rhs: Self) -> (Self, Self::Jacobian, Self::Jacobian) {
+        (
+            self.compose(rhs),
+            rhs.inverse().adjoint(),
+            Self::jacobian_identity(),
+        )
+    }
+    /// `X⁻¹` with `∂/∂X = −Adj(X)`.
+    fn inverse_jac(self) -> (Self, Self::Jacobian) {
+        (self.inverse(), Self::jacobian_neg(self.adjoint()))
+    }
+    /// `X ⊕ τ` with `∂/∂X = Adj(Exp(τ))⁻¹` and `∂/∂τ = J_r(τ)`.
+    fn rplus_jac(self, tau: Self::Tangent) -> (Self, Self::Jacobian, Self::Jacobian) {
+        let e = Self::exp(tau);
+        (
+            self.compose(e),
+            e.inverse().adjoint(),
+            Self::right_jacobian(tau),
+        )
+    }
+    /// `Y ⊖ X` (`self = Y`) with `∂/∂Y = J_r⁻¹(τ)` and `∂/∂X = −J_l⁻¹(τ)`,
+    /// `τ = Y ⊖ X`.
+    fn rminus_jac(self, x: Self) -> (Self::Tangent, Self::Jacobian, Self::Jacobian) {
+        let tau = self.rminus(x);
+        (
+            tau,
+            Self::right_jacobian_inv(tau),
+            Self::jacobian_neg(Self::left_jacobian_inv(tau)),
+        )
+    }
+    /// `X⁻¹·Y` (`self = X`) with `∂/∂X = −Adj(Y⁻¹·X)` and `∂/∂Y = I`.
+    fn between_jac(self, y: Self) -> (Self, Self::Jacobian, Self::Jacobian) {
+        let d = self.between(y);
+        (
+            d,
+            Self::jacobian_neg(d.inverse().adjoint()),
+            Self::jacobian_identity(),
+        )
+    }
+}
+
+/// SO(3) in either representation: the group part of [`Rotation`].
+macro_rules! so3_group {
+    ($t:ident) => {
+        impl<B: Backend> LieGroup<B> for $t<B> {
+            const DOF: usize = 3;
+            type Tangent = V3<B>;
+            type Jacobian = M3<B>;
+            type ActJacobian = M3<B>;
+
+            #[inline]
+            fn identity() -> Self {
+                <Self as Rotation<B>>::identity()
+            }
+            #[inline]
+            fn compose(self, rhs: Self) -> Self {
+                <Self as Rotation<B>>::compose(self, rhs)
+            }
+            #[inline]
+            fn inverse(self) -> Self {
+                <Self as Rotation<B>>::inverse(self)
+            }
+            #[inline]
+            fn act(self, p: V3<B>) -> V3<B> {
+                <Self as Rotation<B>>::act(self, p)
+            }
+            #[inline]
+            fn exp(tau: V3<B>) -> Self {
+                <Self as Rotation<B>>::exp(tau)
+            }
+            #[inline]
+            fn log(self) -> V3<B> {
+                <Self as Rotation<B>>::log(self)
+            }
+            #[inline]
+            fn adjoint(self) -> M3<B> {
+                <Self as Rotation<B>>::matrix(self)
+            }
+            #[inline]
+            fn right_jacobian(tau: V3<B>) -> M3<B> {
+                so3::right_jacobian::<B>(tau)
+            }
+            #[inline]
+            fn right_jacobian_inv(tau: V3<B>) -> M3<B> {
+                so3::right_jacobian_inv::<B>(tau)
+            }
+            #[inline]
+            fn left_jacobian(tau: V3<B>) -> M3<B> {
+                so3::left_jacobian::<B>(tau)
+            }
+            #[inline]
+            fn left_jacobian_inv(tau: V3<B>) -> M3<B> {
+                so3::left_jacobian_inv::<B>(tau)
+            }
+            fn act_jac(self, p: V3<B>) -> (V3<B>, M3<B>, M3<B>) {
+                let r = <Self as Rotation<B>>::matrix(self);
+                (r * p, r * so3::hat::<B>(p) * S::<B>::lit(-1.0), r)
+            }
+            #[inline]
+            fn tangent_neg(tau: V3<B>) -> V3<B> {
+                -tau
+            }
+            fn tangent_to_coords(tau: V3<B>) -> [S<B>; 6] {
+                let [a, b, c] = B::vec3_to_array(tau);
+                let z = S::<B>::zero();
+                [a, b, c, z, z, z]
+            }
+            fn tangent_from_coords(c: [S<B>; 6]) -> V3<B> {
+                B::vec3(c[0], c[1], c[2])
+            }
+            fn jacobian_entry(j: &M3<B>, row: usize, col: usize) -> S<B> {
+                ops::elems::<B>(*j)[row][col]
+            }
+            fn act_jacobian_entry(j: &M3<B>, row: usize, col: usize) -> S<B> {
+                ops::elems::<B>(*j)[row][col]
+            }
+            #[inline]
+            fn jacobian_apply(j: &M3<B>, tau: V3<B>) -> V3<B> {
+                *j * tau
+            }
+            #[inline]
+            fn jacobian_identity() -> M3<B> {
+                ops::identity::<B>()
+            }
+            #[inline]
+            fn jacobian_mul(a: M3<B>, b: M3<B>) -> M3<B> {
+                a * b
+            }
+            #[inline]
+            fn jacobian_neg(a: M3<B>) -> M3<B> {
+                a * S::<B>::lit(-1.0)
+            }
+        }
+    };
+}
+
+so3_group!(So3Mat);
+so3_group!(So3Quat);
+
+/// `A·B` for 6×6 matrices.
+pub fn mul6<T: Real>(a: &Matrix6<T>, b: &Matrix6<T>) -> Matrix6<T> {
+    let mut out = [[T::zero(); 6]; 6];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, o) in row.iter_mut().enumerate() {
+            *o = (0..6).fold(T::zero(), |s, k| s + a[i][k] * b[k][j]);
+        }
+    }
+    out
+}
+
+fn identity6<T: Real>() -> Matrix6<T> {
+    let mut out = [[T::zero(); 6]; 6];
+    for (i, row) in out.iter_mut().enumerate() {
+        row[i] = T::one();
+    }
+    out
+}
+
+/// `[[a, b], [0, a]]`.
+fn upper<B: Backend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
+    let (ea, eb) = (ops::elems::<B>(a), ops::elems::<B>(b));
+    let mut out = [[S::<B>::zero(); 6]; 6];
+    for i in 0..3 {
+        for j in 0..3 {
+            out[i][j] = ea[i][j];
+            out[i][j + 3] = eb[i][j];
+            out[i + 3][j + 3] = ea[i][j];
+        }
+    }
+    out
+}
+
+/// The inverse of the SE(3) left Jacobian: with `J_l = [[J, Q], [0, J]]`
+/// (`J` the SO(3) left Jacobian of `φ`), `J_l⁻¹ = [[J⁻¹, −J⁻¹QJ⁻¹], [0, J⁻¹]]`.
+pub fn se3_left_jacobian_inv<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
+    let jinv = so3::left_jacobian_inv::<B>(xi.phi);
+    let q = crate::se3::q_block::<B>(xi.rho, xi.phi);
+    upper::<B>(jinv, jinv * q * jinv * S::<B>::lit(-1.0))
+}
+
+impl<B: Backend, R: Rotation<B>> LieGroup<B> for Se3<B, R> {
+    const DOF: usize = 6;
+    type Tangent = Twist<B>;
+    type Jacobian = Matrix6<S<B>>;
+    type ActJacobian = Matrix3x6<S<B>>;
+
+    #[inline]
+    fn identity() -> Self {
+        Se3::identity()
+    }
+    #[inline]
+    fn compose(self, rhs: Self) -> Self {
+        Se3::compose(self, rhs)
+    }
+    #[inline]
+    fn inverse(self) -> Self {
+        Se3::inverse(self)
+    }
+    #[inline]
+    fn act(self, p: V3<B>) -> V3<B> {
+        Se3::act(self, p)
+    }
+    #[inline]
+    fn exp(tau: Twist<B>) -> Self {
+        Se3::exp(tau)
+    }
+    #[inline]
+    fn log(self) -> Twist<B> {
+        Se3::log(self)
+    }
+    #[inline]
+    fn adjoint(self) -> Matrix6<S<B>> {
+        Se3::adjoint(self)
+    }
+    fn right_jacobian(tau: Twist<B>) -> Matrix6<S<B>> {
+        se3_left_jacobian::<B>(Self::tangent_neg(tau))
+    }
+    fn right_jacobian_inv(tau: Twist<B>) -> Matrix6<S<B>> {
+        se3_left_jacobian_inv::<B>(Self::tangent_neg(tau))
+    }
+    fn left_jacobian(tau: Twist<B>) -> Matrix6<S<B>> {
+        se3_left_jacobian::<B>(tau)
+    }
+    fn left_jacobian_inv(tau: Twist<B>) -> Matrix6<S<B>> {
+        se3_left_jacobian_inv::<B>(tau)
+    }
+    /// `∂(R p + t)/∂X = [R, −R p^]` (right perturbation `(ρ, φ)`).
+    fn act_jac(self, p: V3<B>) -> (V3<B>, Matrix3x6<S<B>>, M3<B>) {
+        let r = self.rotation.matrix();
+        let left = ops::elems::<B>(r);
+        let right = ops::elems::<B>(r * so3::hat::<B>(p) * S::<B>::lit(-1.0));
+        let j = core::array::from_fn(|i| {
+            core::array::from_fn(|k| if k < 3 { left[i][k] } else { right[i][k - 3] })
+        });
+        (self.act(p), j, r)
+    }
+    fn tangent_neg(tau: Twist<B>) -> Twist<B> {
+        Twist::new(-tau.rho, -tau.phi)
+    }
+    fn tangent_to_coords(tau: Twist<B>) -> [S<B>; 6] {
+        tau.to_array()
+    }
+    fn tangent_from_coords(c: [S<B>; 6]) -> Twist<B> {
+        Twist::from_array(c)
+    }
+    fn jacobian_entry(j: &Matrix6<S<B>>, row: usize, col: usize) -> S<B> {
+        j[row][col]
+    }
+    fn act_jacobian_entry(j: &Matrix3x6<S<B>>, row: usize, col: usize) -> S<B> {
+        j[row][col]
+    }
+    fn jacobian_apply(j: &Matrix6<S<B>>, tau: Twist<B>) -> Twist<B> {
+        let t = tau.to_array();
+        Twist::from_array(j.map(|row| (0..6).fold(S::<B>::zero(), |s, k| s + row[k] * t[k])))
+    }
+    fn jacobian_identity() -> Matrix6<S<B>> {
+        identity6()
+    }
+    fn jacobian_mul(a: Matrix6<S<B>>, b: Matrix6<S<B>>) -> Matrix6<S<B>> {
+        mul6(&a, &b)
+    }
+    fn jacobian_neg(a: Matrix6<S<B>>) -> Matrix6<S<B>> {
+        a.map(|r| r.map(|x| -x))
+    }
+}
