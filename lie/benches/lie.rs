@@ -273,6 +273,36 @@ macro_rules! bench_pair {
             b.iter(|| black_box(m) * black_box(v))
         });
         g.finish();
+        // The group operations of `LieGroup` (called through the trait:
+        // `Rotation` shares some names); the hand twins are the same
+        // formulas on the backend's own matrices.
+        type G = So3Mat<B>;
+        let mut g = $c.benchmark_group("rplus");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus(black_box(r), black_box(phi)))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| black_box(m) * $hand::exp(black_box(phi)))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("rminus");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus(black_box(r2), black_box(r)))
+        });
+        g.bench_function(format!("{name}/hand"), |b| {
+            b.iter(|| $hand::log(black_box(m).transpose() * black_box(m2)))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("rplus_jac");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus_jac(black_box(r), black_box(phi)))
+        });
+        g.finish();
+        let mut g = $c.benchmark_group("rminus_jac");
+        g.bench_function(format!("{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus_jac(black_box(r2), black_box(r)))
+        });
+        g.finish();
         let mut g = $c.benchmark_group("left_jacobian");
         g.bench_function(format!("{name}/generic"), |b| {
             b.iter(|| lie::left_jacobian::<B>(black_box(phi)))
