@@ -2,7 +2,7 @@
 //! clamped anti-windup option.
 
 use controllers::*;
-use lie::{GlamF32, NalgebraF64, Rotation, So3Mat};
+use lie::{GlamF32, NalgebraF64, So3Mat};
 
 /// One position-mode evaluation at a generic state in glam-f32 against
 /// nalgebra-f64: the laws are written once, so the only difference is

@@ -17,10 +17,11 @@
 //! - SO(3) tangents are rotation vectors `φ` (3); SE(3) tangents are
 //!   twists `(ρ, φ)`, translation first (6), as [`Twist`] orders them.
 //!
-//! `So3Mat` and `So3Quat` also implement [`Rotation`], which shares some
-//! method names (`exp`, `log`, `compose` …) with the same meaning; import
-//! the one trait a piece of code is written against (the prelude brings
-//! `Rotation`), or call through `LieGroup::exp(…)`.
+//! [`Rotation`] (the paper's attitude errors and the representations'
+//! conversions) has `LieGroup` as its supertrait, so code generic over
+//! `R: Rotation<B>` has every group operation. `So3Mat`, `So3Quat` and
+//! `Se3` also have the basic operations as inherent methods, so a concrete
+//! type needs no trait in scope for them.
 //!
 //! ```
 //! use lie::{Backend, LieGroup, NalgebraF64, So3Mat, ops};
@@ -189,27 +190,27 @@ macro_rules! so3_group {
 
             #[inline]
             fn identity() -> Self {
-                <Self as Rotation<B>>::identity()
+                $t::<B>::identity()
             }
             #[inline]
             fn compose(self, rhs: Self) -> Self {
-                <Self as Rotation<B>>::compose(self, rhs)
+                $t::<B>::compose(self, rhs)
             }
             #[inline]
             fn inverse(self) -> Self {
-                <Self as Rotation<B>>::inverse(self)
+                $t::<B>::inverse(self)
             }
             #[inline]
             fn act(self, p: V3<B>) -> V3<B> {
-                <Self as Rotation<B>>::act(self, p)
+                $t::<B>::act(self, p)
             }
             #[inline]
             fn exp(tau: V3<B>) -> Self {
-                <Self as Rotation<B>>::exp(tau)
+                $t::<B>::exp(tau)
             }
             #[inline]
             fn log(self) -> V3<B> {
-                <Self as Rotation<B>>::log(self)
+                $t::<B>::log(self)
             }
             #[inline]
             fn adjoint(self) -> M3<B> {

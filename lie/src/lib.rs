@@ -164,7 +164,7 @@ impl core::error::Error for LieError {}
 /// ```
 pub mod prelude {
     pub use crate::{
-        Backend, LieError, M3, Real, Rotation, S, Se3, So3Mat, So3Quat, Twist, V3, ops,
+        Backend, LieError, LieGroup, M3, Real, Rotation, S, Se3, So3Mat, So3Quat, Twist, V3, ops,
     };
     #[cfg(feature = "glam")]
     pub use crate::{GlamF32, GlamF64};

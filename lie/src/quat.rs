@@ -28,40 +28,52 @@ impl<B: Backend> So3Quat<B> {
     }
 }
 
-impl<B: Backend> Rotation<B> for So3Quat<B> {
-    const REPR: &'static str = "quaternion";
-
+/// The group operations (also [`LieGroup`](crate::LieGroup)'s, which calls these): inherent,
+/// so that a concrete rotation needs no trait in scope and never meets two
+/// traits' methods of the same name.
+impl<B: Backend> So3Quat<B> {
+    /// The identity rotation.
     #[inline]
-    fn identity() -> Self {
+    pub fn identity() -> Self {
         let (z, o) = (S::<B>::zero(), S::<B>::one());
         Self(B::quat_from_wxyz(o, z, z, z))
     }
+    /// `self ∘ rhs` (apply `rhs` first).
     #[inline]
-    fn compose(self, rhs: Self) -> Self {
+    pub fn compose(self, rhs: Self) -> Self {
         Self(B::quat_mul(self.0, rhs.0))
     }
+    /// The inverse rotation.
     #[inline]
-    fn inverse(self) -> Self {
+    pub fn inverse(self) -> Self {
         Self(B::quat_conj(self.0))
     }
+    /// `R v`.
     #[inline]
-    fn act(self, v: V3<B>) -> V3<B> {
+    pub fn act(self, v: V3<B>) -> V3<B> {
         B::quat_rotate(self.0, v)
-    }
-    #[inline]
-    fn inverse_act(self, v: V3<B>) -> V3<B> {
-        B::quat_rotate(B::quat_conj(self.0), v)
     }
     /// `(cos(θ/2), sin(θ/2)/θ · φ)`, with a series for `sin(θ/2)/θ` near 0.
     #[inline]
-    fn exp(phi: V3<B>) -> Self {
+    pub fn exp(phi: V3<B>) -> Self {
         let (w, k) = series::quat_exp_coeffs(ops::norm::<B>(phi));
         let [x, y, z] = B::vec3_to_array(phi);
         Self(B::quat_from_wxyz(w, x * k, y * k, z * k))
     }
+    /// The rotation vector, angle in `[0, π]` (at exactly π either of
+    /// `±φ`): `2 atan2(|q_v|, w) q_v/|q_v|` with the sign of `w` folded in.
     #[inline]
-    fn log(self) -> V3<B> {
+    pub fn log(self) -> V3<B> {
         log_wxyz::<B>(self.wxyz())
+    }
+}
+
+impl<B: Backend> Rotation<B> for So3Quat<B> {
+    const REPR: &'static str = "quaternion";
+
+    #[inline]
+    fn inverse_act(self, v: V3<B>) -> V3<B> {
+        B::quat_rotate(B::quat_conj(self.0), v)
     }
     #[inline]
     fn matrix(self) -> M3<B> {

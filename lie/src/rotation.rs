@@ -1,8 +1,10 @@
 //! The interface both SO(3) representations implement, so controllers,
-//! integrators and tests are written once for either.
+//! integrators and tests are written once for either: the group operations
+//! come from [`LieGroup`] (its supertrait), this adds the representation's
+//! conversions and the paper's attitude errors.
 
 use crate::backend::ops;
-use crate::{Backend, M3, Real, S, V3};
+use crate::{Backend, LieGroup, M3, Real, S, V3};
 use core::fmt::Debug;
 
 /// An element of SO(3) in some representation (rotation matrix or unit
@@ -25,25 +27,18 @@ use core::fmt::Debug;
 /// assert!((angle(m, So3Mat::identity()) - theta).abs() < 1e-12);
 /// assert!((angle(q, So3Quat::identity()) - theta).abs() < 1e-12);
 /// ```
-pub trait Rotation<B: Backend>: Copy + Debug + PartialEq + core::ops::Mul<Output = Self> {
+pub trait Rotation<B: Backend>:
+    LieGroup<B, Tangent = V3<B>, Jacobian = M3<B>, ActJacobian = M3<B>>
+    + Copy
+    + Debug
+    + PartialEq
+    + core::ops::Mul<Output = Self>
+{
     /// `"matrix"` or `"quaternion"`, for reports.
     const REPR: &'static str;
 
-    /// The identity rotation.
-    fn identity() -> Self;
-    /// `self ∘ rhs` (apply `rhs` first).
-    fn compose(self, rhs: Self) -> Self;
-    /// The inverse rotation.
-    fn inverse(self) -> Self;
-    /// `R v`.
-    fn act(self, v: V3<B>) -> V3<B>;
     /// `Rᵀ v`, without forming the inverse.
     fn inverse_act(self, v: V3<B>) -> V3<B>;
-    /// `exp(φ^)`: the rotation by angle `|φ|` about `φ/|φ|`.
-    fn exp(phi: V3<B>) -> Self;
-    /// The inverse of [`Rotation::exp`] with the angle in `[0, π]`. At exactly
-    /// π both `±φ` are logarithms; either may be returned.
-    fn log(self) -> V3<B>;
     /// The rotation matrix.
     fn matrix(self) -> M3<B>;
     /// From a rotation matrix, trusted to be orthogonal with det +1 (use
@@ -82,13 +77,6 @@ pub trait Rotation<B: Backend>: Copy + Debug + PartialEq + core::ops::Mul<Output
         let o = S::<B>::lit(1.0);
         let e = [B::vec3(o, z, z), B::vec3(z, o, z), B::vec3(z, z, o)];
         self.act(e[k])
-    }
-
-    /// The adjoint `Ad_R`, which for SO(3) is `R` itself:
-    /// `exp((Rφ)^) = R exp(φ^) Rᵀ`.
-    #[inline]
-    fn adjoint(self) -> M3<B> {
-        self.matrix()
     }
 
     /// The angle of the rotation, in `[0, π]`.

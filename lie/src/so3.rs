@@ -155,36 +155,37 @@ impl<B: Backend> So3Mat<B> {
     /// The rotation by `angle` about the unit vector `axis`.
     #[inline]
     pub fn from_axis_angle(axis: V3<B>, angle: S<B>) -> Self {
-        <Self as Rotation<B>>::exp(axis * angle)
+        Self::exp(axis * angle)
     }
 }
 
-impl<B: Backend> Rotation<B> for So3Mat<B> {
-    const REPR: &'static str = "matrix";
-
+/// The group operations (also [`LieGroup`](crate::LieGroup)'s, which calls these): inherent,
+/// so that a concrete rotation needs no trait in scope and never meets two
+/// traits' methods of the same name.
+impl<B: Backend> So3Mat<B> {
+    /// The identity rotation.
     #[inline]
-    fn identity() -> Self {
+    pub fn identity() -> Self {
         Self(ops::identity::<B>())
     }
+    /// `self ∘ rhs` (apply `rhs` first).
     #[inline]
-    fn compose(self, rhs: Self) -> Self {
+    pub fn compose(self, rhs: Self) -> Self {
         Self(self.0 * rhs.0)
     }
+    /// The inverse rotation.
     #[inline]
-    fn inverse(self) -> Self {
+    pub fn inverse(self) -> Self {
         Self(B::mat3_transpose(self.0))
     }
+    /// `R v`.
     #[inline]
-    fn act(self, v: V3<B>) -> V3<B> {
+    pub fn act(self, v: V3<B>) -> V3<B> {
         self.0 * v
-    }
-    #[inline]
-    fn inverse_act(self, v: V3<B>) -> V3<B> {
-        B::mat3_tr_mul_vec(self.0, v)
     }
     /// `exp(φ^) = cos θ I + (sin θ/θ) φ^ + ((1 − cos θ)/θ²) φ φᵀ` (Rodrigues).
     #[inline]
-    fn exp(phi: V3<B>) -> Self {
+    pub fn exp(phi: V3<B>) -> Self {
         let (a, b, c) = series::exp_coeffs(ops::norm::<B>(phi));
         Self(rodrigues::<B>(c, a, b, phi))
     }
@@ -192,8 +193,17 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     /// `2 atan2(|q_v|, w) q_v/|q_v|`: accurate to rounding at every angle,
     /// including exactly π, where `acos((tr R − 1)/2)` loses half its digits.
     #[inline]
-    fn log(self) -> V3<B> {
+    pub fn log(self) -> V3<B> {
         convert::log_wxyz::<B>(convert::shepperd::<B>(self.0))
+    }
+}
+
+impl<B: Backend> Rotation<B> for So3Mat<B> {
+    const REPR: &'static str = "matrix";
+
+    #[inline]
+    fn inverse_act(self, v: V3<B>) -> V3<B> {
+        B::mat3_tr_mul_vec(self.0, v)
     }
     #[inline]
     fn matrix(self) -> M3<B> {

@@ -8,7 +8,7 @@ use controllers::{
     PositionGains, PositionReference, RigidBodyParams, VehicleState, attitude_control,
     position_control,
 };
-use lie::{Backend, Real, Rotation, S, So3Mat};
+use lie::{Backend, Real, S, So3Mat};
 
 /// Descend at `speed` m/s to `cut_height` m above the ground (`x₃ = 0`,
 /// e3 down), then cut thrust.
