@@ -426,6 +426,9 @@ def test_ctrl_c_interrupts_a_long_run_cleanly(call):
     a second or so, and the interpreter goes on."""
     code = (
         "import geopid, signal, threading, os, time\n"
+        # A shell without job control starts background commands with
+        # SIGINT ignored, and Python keeps that: restore Python's handler.
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()\n"
         "t = time.time()\n"
         "try:\n"
