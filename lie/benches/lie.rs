@@ -346,5 +346,137 @@ fn benches(c: &mut Criterion) {
     );
 }
 
-criterion_group!(lie_benches, benches);
+/// Each operation through `lie` beside the backend's own type for it
+/// (nalgebra's `Rotation3` and `UnitQuaternion`, glam's `Quat`), where
+/// the backend has the operation: ids `vs-native/<op>/<pair> <repr>/<generic|native>`.
+macro_rules! bench_native {
+    ($c:expr, $backend:ty, $repr:ident, $native:ty, $new:expr, $log:expr, $inv:expr, $v:expr, $w:expr) => {{
+        type B = $backend;
+        type G = lie::$repr<B>;
+        let name = format!("{} {}", <B as lie::Backend>::NAME, stringify!($repr));
+        let (phi, w) = ($v, $w);
+        let (r, r2) = (G::exp(phi), G::exp(w));
+        let (n, n2): ($native, $native) = ($new(phi), $new(w));
+        let mut g = $c.benchmark_group("vs-native");
+        g.bench_function(format!("exp/{name}/generic"), |b| {
+            b.iter(|| G::exp(black_box(phi)))
+        });
+        g.bench_function(format!("exp/{name}/native"), |b| {
+            b.iter(|| $new(black_box(phi)))
+        });
+        g.bench_function(format!("log/{name}/generic"), |b| {
+            b.iter(|| black_box(r).log())
+        });
+        g.bench_function(format!("log/{name}/native"), |b| {
+            b.iter(|| $log(black_box(n)))
+        });
+        g.bench_function(format!("compose/{name}/generic"), |b| {
+            b.iter(|| black_box(r).compose(black_box(r2)))
+        });
+        g.bench_function(format!("compose/{name}/native"), |b| {
+            b.iter(|| black_box(n) * black_box(n2))
+        });
+        g.bench_function(format!("rplus/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus(black_box(r), black_box(w)))
+        });
+        g.bench_function(format!("rplus/{name}/native"), |b| {
+            b.iter(|| black_box(n) * $new(black_box(w)))
+        });
+        g.bench_function(format!("rminus/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus(black_box(r2), black_box(r)))
+        });
+        g.bench_function(format!("rminus/{name}/native"), |b| {
+            b.iter(|| $log($inv(black_box(n)) * black_box(n2)))
+        });
+        g.finish();
+    }};
+}
+
+fn natives(c: &mut Criterion) {
+    use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+    let (v64, w64) = (
+        Vector3::new(0.3f64, -0.7, 0.8),
+        Vector3::new(1.0f64, 2.0, 3.0) * 0.3,
+    );
+    let (v32, w32) = (
+        Vector3::new(0.3f32, -0.7, 0.8),
+        Vector3::new(1.0f32, 2.0, 3.0) * 0.3,
+    );
+    bench_native!(
+        c,
+        lie::NalgebraF64,
+        So3Mat,
+        Rotation3<f64>,
+        Rotation3::new,
+        |r: Rotation3<f64>| r.scaled_axis(),
+        |r: Rotation3<f64>| r.inverse(),
+        v64,
+        w64
+    );
+    bench_native!(
+        c,
+        lie::NalgebraF64,
+        So3Quat,
+        UnitQuaternion<f64>,
+        UnitQuaternion::new,
+        |q: UnitQuaternion<f64>| q.scaled_axis(),
+        |q: UnitQuaternion<f64>| q.inverse(),
+        v64,
+        w64
+    );
+    bench_native!(
+        c,
+        lie::NalgebraF32,
+        So3Mat,
+        Rotation3<f32>,
+        Rotation3::new,
+        |r: Rotation3<f32>| r.scaled_axis(),
+        |r: Rotation3<f32>| r.inverse(),
+        v32,
+        w32
+    );
+    bench_native!(
+        c,
+        lie::NalgebraF32,
+        So3Quat,
+        UnitQuaternion<f32>,
+        UnitQuaternion::new,
+        |q: UnitQuaternion<f32>| q.scaled_axis(),
+        |q: UnitQuaternion<f32>| q.inverse(),
+        v32,
+        w32
+    );
+    let (g64, h64) = (
+        glam::DVec3::new(0.3, -0.7, 0.8),
+        glam::DVec3::new(0.3, 0.6, 0.9),
+    );
+    let (g32, h32) = (
+        glam::Vec3::new(0.3, -0.7, 0.8),
+        glam::Vec3::new(0.3, 0.6, 0.9),
+    );
+    bench_native!(
+        c,
+        lie::GlamF64,
+        So3Quat,
+        glam::DQuat,
+        glam::DQuat::from_scaled_axis,
+        |q: glam::DQuat| q.to_scaled_axis(),
+        |q: glam::DQuat| q.inverse(),
+        g64,
+        h64
+    );
+    bench_native!(
+        c,
+        lie::GlamF32,
+        So3Quat,
+        glam::Quat,
+        glam::Quat::from_scaled_axis,
+        |q: glam::Quat| q.to_scaled_axis(),
+        |q: glam::Quat| q.inverse(),
+        g32,
+        h32
+    );
+}
+
+criterion_group!(lie_benches, benches, natives);
 criterion_main!(lie_benches);
