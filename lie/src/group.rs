@@ -49,7 +49,7 @@
 use num_traits::Zero;
 
 use crate::backend::ops;
-use crate::se3::{Matrix6, Se3, Twist, se3_left_jacobian};
+use crate::se3::{Matrix6, Se3, Twist, se3_left_jacobian, se3_left_jacobian_inv};
 use crate::{Backend, M3, Real, Rotation, S, So3Mat, So3Quat, V3, so3};
 
 /// A `3 × 6` matrix, row-major: the Jacobian of an SE(3) action with
@@ -294,28 +294,6 @@ fn identity6<T: Real>() -> Matrix6<T> {
         row[i] = T::one();
     }
     out
-}
-
-/// `[[a, b], [0, a]]`.
-fn upper<B: Backend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
-    let (ea, eb) = (ops::elems::<B>(a), ops::elems::<B>(b));
-    let mut out = [[S::<B>::zero(); 6]; 6];
-    for i in 0..3 {
-        for j in 0..3 {
-            out[i][j] = ea[i][j];
-            out[i][j + 3] = eb[i][j];
-            out[i + 3][j + 3] = ea[i][j];
-        }
-    }
-    out
-}
-
-/// The inverse of the SE(3) left Jacobian: with `J_l = [[J, Q], [0, J]]`
-/// (`J` the SO(3) left Jacobian of `φ`), `J_l⁻¹ = [[J⁻¹, −J⁻¹QJ⁻¹], [0, J⁻¹]]`.
-pub fn se3_left_jacobian_inv<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
-    let jinv = so3::left_jacobian_inv::<B>(xi.phi);
-    let q = crate::se3::q_block::<B>(xi.rho, xi.phi);
-    upper::<B>(jinv, jinv * q * jinv * S::<B>::lit(-1.0))
 }
 
 impl<B: Backend, R: Rotation<B>> LieGroup<B> for Se3<B, R> {

@@ -94,12 +94,12 @@ pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
 pub use convert::{log_wxyz, shepperd};
-pub use group::{LieGroup, Matrix3x6, mul6, se3_left_jacobian_inv};
+pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;
 pub use quat::So3Quat;
 pub use real::Real;
 pub use rotation::{Rotation, e_omega};
-pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian};
+pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian, se3_left_jacobian_inv};
 pub use so3::{
     So3Mat, hat, left_jacobian, left_jacobian_inv, orthogonality_error, right_jacobian,
     right_jacobian_inv, vee,

@@ -209,3 +209,11 @@ pub fn se3_left_jacobian<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
         q_block::<B>(xi.rho, xi.phi),
     )
 }
+
+/// The inverse of the SE(3) left Jacobian: with `J_l = [[J, Q], [0, J]]`
+/// (`J` the SO(3) left Jacobian of `φ`), `J_l⁻¹ = [[J⁻¹, −J⁻¹QJ⁻¹], [0, J⁻¹]]`.
+pub fn se3_left_jacobian_inv<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
+    let jinv = so3::left_jacobian_inv::<B>(xi.phi);
+    let q = q_block::<B>(xi.rho, xi.phi);
+    upper_block::<B>(jinv, jinv * q * jinv * S::<B>::lit(-1.0))
+}

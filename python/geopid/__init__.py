@@ -47,18 +47,6 @@ __version__ = _geopid.__version__
 
 SceneLike = Union[str, "os.PathLike[str]", Mapping[str, Any], Scene]
 
-_OVERRIDES = (
-    "integrator",
-    "dt",
-    "tol",
-    "duration",
-    "sample",
-    "control_rate",
-    "scalar",
-    "backend",
-    "no_integral",
-)
-
 
 def scene_names() -> list:
     """The built-in scenes' names."""
@@ -244,9 +232,7 @@ class Simulation:
         reference: Optional[Callable[[float], Any]] = None,
         **overrides: Any,
     ):
-        unknown = set(overrides) - set(_OVERRIDES)
-        if unknown:
-            raise TypeError(f"Simulation: unknown setting(s) {sorted(unknown)}")
+        # An unknown setting is a TypeError from `load_scene`.
         self._sim = _geopid.Simulation(load_scene(scene, **overrides), reference)
 
     def advance_to(self, t: float) -> None:

@@ -122,22 +122,6 @@ pub(crate) fn input_col(
     ))
 }
 
-/// [`input_col`] with a broadcast row repeated, as one flat vector.
-pub(crate) fn input(
-    field: &str,
-    a: &PyReadonlyArrayDyn<'_, f64>,
-    n: Option<usize>,
-    tail: &[usize],
-    broadcast: bool,
-    finite: bool,
-) -> PyResult<(usize, Vec<f64>)> {
-    let (rows, col) = input_col(field, a, n, tail, broadcast, finite)?;
-    if col.stride == 0 {
-        return Ok((rows, col.data.repeat(rows)));
-    }
-    Ok((rows, col.data))
-}
-
 /// A shape as Python prints it: `(3,)`, `(4, 3)`.
 fn tuple(shape: &[usize]) -> String {
     match shape {

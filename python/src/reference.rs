@@ -34,23 +34,36 @@ fn reference_of(out: &Bound<'_, PyAny>) -> PyResult<[[f64; 3]; 8]> {
         }
         return Ok(r);
     }
-    let items: Vec<Bound<'_, PyAny>> = match out.cast::<PyTuple>() {
-        Ok(t) => t.iter().collect(),
-        Err(_) => out
-            .try_iter()
-            .map_err(|_| bad("expected a tuple of 3-vectors (x, v, a, jerk, snap, b1d, b1d_dot, b1d_ddot) or a dict".into()))?
-            .collect::<PyResult<_>>()?,
-    };
-    if items.is_empty() || items.len() > 8 {
-        return Err(bad(format!(
-            "{} vectors returned, expected 1 to 8",
-            items.len()
-        )));
-    }
-    for (i, v) in items.iter().enumerate() {
-        r[i] = v
+    // Read in place (this runs several times a step): a tuple by index, any
+    // other sequence by iteration, no intermediate list.
+    let mut count = 0;
+    let mut put = |i: usize, v: &Bound<'_, PyAny>| -> PyResult<()> {
+        let slot = r
+            .get_mut(i)
+            .ok_or_else(|| bad(format!("more than {} vectors returned", NAMES.len())))?;
+        *slot = v
             .extract()
             .map_err(|_| bad(format!("`{}` is not 3 numbers", NAMES[i])))?;
+        count = i + 1;
+        Ok(())
+    };
+    match out.cast::<PyTuple>() {
+        Ok(t) => {
+            for (i, v) in t.iter().enumerate() {
+                put(i, &v)?;
+            }
+        }
+        Err(_) => {
+            let items = out.try_iter().map_err(|_| {
+                bad("expected a tuple of 3-vectors (x, v, a, jerk, snap, b1d, b1d_dot, b1d_ddot) or a dict".into())
+            })?;
+            for (i, v) in items.enumerate() {
+                put(i, &v?)?;
+            }
+        }
+    }
+    if count == 0 {
+        return Err(bad("0 vectors returned, expected 1 to 8".into()));
     }
     Ok(r)
 }

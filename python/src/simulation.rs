@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scenarios::{DivergenceGuard, SceneSimulation, StateF64};
 
-use crate::arrays::{array, input};
+use crate::arrays::{array, input_col};
 use crate::reference::{ErrorCell, position_fn, take_error};
 use crate::result::{output_dict, termination};
 use crate::scene::Scene;
@@ -36,15 +36,23 @@ impl Simulation {
     }
 }
 
+/// One state's array of shape `tail` (or `(1, *tail)`), finite; a stack
+/// of several is an error, not its first row.
+fn one(field: &str, a: &PyReadonlyArrayDyn<'_, f64>, tail: &[usize]) -> PyResult<Vec<f64>> {
+    let (rows, col) = input_col(field, a, None, tail, true, true)?;
+    if rows != 1 {
+        return Err(PyValueError::new_err(format!(
+            "{field}: {rows} rows given, one state at a time"
+        )));
+    }
+    Ok(col.data)
+}
+
 /// A vector argument of `n` values, or the current one when `None`.
 fn vector(field: &str, a: Option<PyReadonlyArrayDyn<'_, f64>>, now: &[f64]) -> PyResult<Vec<f64>> {
     match a {
         None => Ok(now.to_vec()),
-        Some(a) => {
-            let n = now.len();
-            let (_, v) = input(field, &a, None, &[n], true, true)?;
-            Ok(v[..n].to_vec())
-        }
+        Some(a) => one(field, &a, &[now.len()]),
     }
 }
 
@@ -132,7 +140,7 @@ impl Simulation {
         let r = match r {
             None => now.r,
             Some(a) => {
-                let (_, m) = input("R", &a, None, &[3, 3], true, true)?;
+                let m = one("R", &a, &[3, 3])?;
                 [[m[0], m[1], m[2]], [m[3], m[4], m[5]], [m[6], m[7], m[8]]]
             }
         };

@@ -3,10 +3,12 @@
 //! (bindings to other languages, a UI that loads any scene file).
 
 use dynamics::RigidBodyState;
-use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, ops};
+use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation};
 
 use crate::from_scene::{PositionFn, builder_from};
-use crate::scene::{BackendKind, Scalar, Scene, SceneError};
+use crate::reference::{m, v};
+use crate::scene::{BackendKind, Scalar, Scene};
+use crate::sim::record::{f3, fm};
 use crate::{DivergenceGuard, Registry, RunOptions, RunOutput, SimError, Simulation, Termination};
 
 /// A simulation's state in f64, whatever the scalar it runs in.
@@ -44,15 +46,6 @@ trait Stepping {
     fn finish(self: Box<Self>) -> Result<RunOutput, SimError>;
 }
 
-fn to_f64<B: Backend>(v: lie::V3<B>) -> [f64; 3] {
-    B::vec3_to_array(v).map(|c| c.to_f64_lossless())
-}
-
-fn from_f64<B: Backend>(v: [f64; 3]) -> lie::V3<B> {
-    let [a, b, c] = v.map(<lie::S<B> as Real>::lit);
-    B::vec3(a, b, c)
-}
-
 /// Every element finite, or a [`SimError::Setting`] naming the field.
 fn finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
     match values.iter().find(|v| !v.is_finite()) {
@@ -71,13 +64,12 @@ impl<B: Backend, const N: usize> Stepping for Simulation<'static, B, N> {
 
     fn state(&self) -> StateF64 {
         let s = Simulation::state(self);
-        let rows = ops::elems::<B>(s.body.r).map(|r| r.map(|c| c.to_f64_lossless()));
         StateF64 {
             t: s.t,
-            x: to_f64::<B>(s.body.x),
-            v: to_f64::<B>(s.body.v),
-            r: rows,
-            omega: to_f64::<B>(s.body.omega),
+            x: f3::<B>(s.body.x),
+            v: f3::<B>(s.body.v),
+            r: fm::<B>(s.body.r),
+            omega: f3::<B>(s.body.omega),
             integrals: s.integrals.iter().map(|c| c.to_f64_lossless()).collect(),
             vehicle_states: s
                 .vehicle_states
@@ -90,9 +82,9 @@ impl<B: Backend, const N: usize> Stepping for Simulation<'static, B, N> {
     }
 
     fn set_state(&mut self, s: &StateF64) -> Result<(), SimError> {
-        let (m, nv) = self.layout();
+        let (ni, nv) = self.layout();
         for (field, got, want) in [
-            ("state.integrals", s.integrals.len(), m),
+            ("state.integrals", s.integrals.len(), ni),
             ("state.vehicle_states", s.vehicle_states.len(), nv),
         ] {
             if got != want {
@@ -111,10 +103,10 @@ impl<B: Backend, const N: usize> Stepping for Simulation<'static, B, N> {
         let lit = <lie::S<B> as Real>::lit;
         let to = self.state_mut();
         *to.body = RigidBodyState {
-            r: ops::from_elems::<B>(s.r.map(|r| r.map(lit))),
-            x: from_f64::<B>(s.x),
-            v: from_f64::<B>(s.v),
-            omega: from_f64::<B>(s.omega),
+            r: m::<B>(s.r).matrix(),
+            x: v::<B>(s.x),
+            v: v::<B>(s.v),
+            omega: v::<B>(s.omega),
         };
         for (slot, v) in to.integrals.iter_mut().zip(&s.integrals) {
             *slot = lit(*v);
@@ -281,10 +273,7 @@ impl Registry {
             guard: DivergenceGuard,
             position: Option<&PositionFn>,
         ) -> Result<Box<dyn Stepping>, SimError> {
-            scene
-                .validate()
-                .and_then(|()| scene.check_kind(&r.kinds()))
-                .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+            r.check(scene)?;
             let (vehicle, plan, capacity) = r.parts::<B>(scene, position)?;
             Ok(match capacity {
                 6 => Box::new(

@@ -289,10 +289,7 @@ impl Registry {
         &self,
         scene: &Scene,
     ) -> Result<SimulationBuilder<'static, B, N>, SimError> {
-        scene
-            .validate()
-            .and_then(|()| scene.check_kind(&self.kinds()))
-            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+        self.check(scene)?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
         builder_from::<B, N>(scene, vehicle, plan)
@@ -304,15 +301,20 @@ impl Registry {
         scene: &Scene,
         opts: RunOptions<'_>,
     ) -> Result<RunOutput, SimError> {
-        scene
-            .validate()
-            .and_then(|()| scene.check_kind(&self.kinds()))
-            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?;
+        self.check(scene)?;
         let (vehicle, plan, capacity) = self.parts::<B>(scene, None)?;
         match capacity {
             6 => simulate::<B, 6>(scene, vehicle, plan, opts),
             _ => simulate::<B, 16>(scene, vehicle, plan, opts),
         }
+    }
+
+    /// `scene` validated, its vehicle kind built in or registered here.
+    pub(crate) fn check(&self, scene: &Scene) -> Result<(), SimError> {
+        scene
+            .validate()
+            .and_then(|()| scene.check_kind(&self.kinds()))
+            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))
     }
 
     /// The vehicle and plan of a validated `scene`, and the extra-state

@@ -21,7 +21,7 @@
 
 mod closed_loop;
 mod events;
-mod record;
+pub(crate) mod record;
 mod stepping;
 
 use std::sync::atomic::AtomicBool;

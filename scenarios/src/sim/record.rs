@@ -7,11 +7,11 @@ use lie::{Backend, Real, Rotation, S, So3Mat, V3, ops};
 use super::closed_loop::ClosedLoop;
 use super::{RunOutput, Sample, SimError};
 
-fn f3<B: Backend>(x: V3<B>) -> [f64; 3] {
+pub(crate) fn f3<B: Backend>(x: V3<B>) -> [f64; 3] {
     B::vec3_to_array(x).map(|c| c.to_f64_lossless())
 }
 
-fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
+pub(crate) fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
     ops::elems::<B>(x).map(|r| r.map(|c| c.to_f64_lossless()))
 }
 
