@@ -112,6 +112,30 @@ impl<B: Backend> RigidBodyState<B> {
             None
         }
     }
+
+    /// The state as an element of the group SO(3) × ℝ³ × ℝ³ × ℝ³, for
+    /// `⊕`/`⊖` on the whole state (the attitude perturbed on the right, the
+    /// vectors additively).
+    #[inline]
+    pub fn group(self) -> lie::RigidState<B, lie::So3Mat<B>> {
+        lie::RigidState::new(
+            lie::So3Mat::from_matrix_unchecked(self.r),
+            self.x,
+            self.v,
+            self.omega,
+        )
+    }
+
+    /// The state of a group element (the inverse of [`RigidBodyState::group`]).
+    #[inline]
+    pub fn from_group<R: lie::Rotation<B>>(g: lie::RigidState<B, R>) -> Self {
+        Self {
+            r: g.r.matrix(),
+            x: g.x,
+            v: g.v,
+            omega: g.omega,
+        }
+    }
 }
 
 /// Body wrench commanded to the vehicle: total thrust `f` along `−b3` and the

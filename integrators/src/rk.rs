@@ -2,7 +2,10 @@
 //! numbers), RKMK4 on the group.
 
 use lie::num_traits::Zero;
-use lie::{Backend, M3, Real, Rotation, S, So3Mat, V3, hat, right_jacobian_inv};
+use dynamics::RigidBodyState;
+use lie::{
+    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, So3Mat, V3, hat, right_jacobian_inv,
+};
 
 use crate::{Integrator, Load, State, StepError, StepStats, System};
 
@@ -98,13 +101,7 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
     } else {
         (y.body.x, y.body.v)
     };
-    let extra = core::array::from_fn(|i| {
-        let mut de = S::<B>::zero();
-        for (c, k) in &terms {
-            de += *c * k.e[i];
-        }
-        y.extra[i] + h * de
-    });
+    let extra = extras(y, h, &terms);
     State {
         body: dynamics::RigidBodyState {
             r: y.body.r + dr,
@@ -114,6 +111,51 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
         },
         extra,
     }
+}
+
+/// `y + h Σ c_i k_i` for the extra states.
+#[inline(always)]
+fn extras<B: Backend, const N: usize, const K: usize>(
+    y: &State<B, N>,
+    h: S<B>,
+    terms: &[(S<B>, &Deriv<B, N>); K],
+) -> [S<B>; N] {
+    core::array::from_fn(|i| {
+        let mut de = S::<B>::zero();
+        for (c, k) in terms {
+            de += *c * k.e[i];
+        }
+        y.extra[i] + h * de
+    })
+}
+
+/// `h Σ c_i k_i` for the vector parts of the body (the attitude part left
+/// at zero for the caller) and `y + h Σ c_i k_i` for the extras: the
+/// increment of a Runge–Kutta stage on the group, which never forms the
+/// nine-number `R + h Σ c_i Ṙ_i` that [`combine`] does; `x`, `v` get no
+/// increment when the body does not translate.
+#[inline(always)]
+pub(crate) fn increment<B: Backend, const N: usize, const K: usize>(
+    body: &Body<B>,
+    y: &State<B, N>,
+    h: S<B>,
+    terms: [(S<B>, &Deriv<B, N>); K],
+) -> (RigidTangent<B>, [S<B>; N]) {
+    let sum = |part: fn(&Deriv<B, N>) -> V3<B>| {
+        let mut d = part(terms[0].1) * (terms[0].0 * h);
+        for (c, k) in &terms[1..] {
+            d = d + part(k) * (*c * h);
+        }
+        d
+    };
+    let zero = lie::ops::zero::<B>();
+    let (dx, dv) = if body.translates {
+        (sum(|k| k.x), sum(|k| k.v))
+    } else {
+        (zero, zero)
+    };
+    let extra = extras(y, h, &terms);
+    (RigidTangent::new(zero, dx, dv, sum(|k| k.w)), extra)
 }
 
 pub(crate) fn check_h<B: Backend>(h: S<B>) -> Result<(), StepError> {
@@ -281,32 +323,35 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rkmk4 {
         let l = S::<B>::lit;
         let body = Body::of(sys);
         let half = h * l(0.5);
-        let r0 = So3Mat::<B>::from_matrix_unchecked(y.body.r);
-        // Stage i: vector part by the RK4 tableau, attitude R0 exp(u_i),
-        // algebra slope k_i = J_r⁻¹(u_i) Ω_i.
-        let at = |u: V3<B>, mut s: State<B, N>| {
-            s.body.r = (r0 * So3Mat::<B>::exp(u)).matrix();
-            s
+        // The step on the group SO(3) × ℝ⁹ (× ℝᴺ for the extras): stage i
+        // is Y_k ⊕ δ_i with δ_i = h Σ a_ij K_j, where the slope K_j is the
+        // state's rate, the attitude's trivialised as J_r⁻¹(u_j) Ω_j
+        // (u_j = δ_j's attitude part); the vector parts and the extras
+        // follow the RK4 tableau as they are.
+        let g0 = y.body.group();
+        let at = |u: V3<B>, (d, extra): (RigidTangent<B>, [S<B>; N])| State {
+            body: RigidBodyState::from_group(g0.rplus(RigidTangent { phi: u, ..d })),
+            extra,
         };
         let k1 = body.deriv(y, &eval(sys, t, y)?);
         let a1 = y.body.omega;
         let u2 = a1 * half;
-        let y2 = at(u2, combine(&body, y, h, [(l(0.5), &k1)]));
+        let y2 = at(u2, increment(&body, y, h, [(l(0.5), &k1)]));
         let k2 = body.deriv(&y2, &eval(sys, t + half, &y2)?);
         let a2 = right_jacobian_inv::<B>(u2) * y2.body.omega;
         let u3 = a2 * half;
-        let y3 = at(u3, combine(&body, y, h, [(l(0.5), &k2)]));
+        let y3 = at(u3, increment(&body, y, h, [(l(0.5), &k2)]));
         let k3 = body.deriv(&y3, &eval(sys, t + half, &y3)?);
         let a3 = right_jacobian_inv::<B>(u3) * y3.body.omega;
         let u4 = a3 * h;
-        let y4 = at(u4, combine(&body, y, h, [(l(1.0), &k3)]));
+        let y4 = at(u4, increment(&body, y, h, [(l(1.0), &k3)]));
         let k4 = body.deriv(&y4, &eval(sys, t + h, &y4)?);
         let a4 = right_jacobian_inv::<B>(u4) * y4.body.omega;
         let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
         let u = (a1 * sixth + a2 * third + a3 * third + a4 * sixth) * h;
         let next = at(
             u,
-            combine(
+            increment(
                 &body,
                 y,
                 h,

@@ -1,8 +1,11 @@
 //! `cargo bench -p lie`: each operation through the generic `lie` code
 //! beside the same formula written by hand on the library's own types, for
-//! the four (backend, scalar) pairs. Benchmark ids are
-//! `<op>/<pair>/<generic|hand>`; `cargo xtask bench-table` turns the
-//! criterion results into the median table with generic/hand ratios.
+//! the four (backend, scalar) pairs (ids `<op>/<pair>/<generic|hand>`),
+//! and beside the backend's own types for rotations and rigid motions
+//! (ids `vs-native/<op>/<pair> <repr>/<generic|native>`).
+//! `cargo xtask bench-table` turns the criterion results into median
+//! tables with the ratios; `cargo xtask bench` runs the `vs-native` group
+//! and prints its table.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use lie::{Rotation, So3Mat};
@@ -388,8 +391,139 @@ macro_rules! bench_native {
         g.bench_function(format!("rminus/{name}/native"), |b| {
             b.iter(|| $log($inv(black_box(n)) * black_box(n2)))
         });
+        g.bench_function(format!("rplus_jac/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus_jac(black_box(r), black_box(w)))
+        });
+        g.bench_function(format!("rminus_jac/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus_jac(black_box(r2), black_box(r)))
+        });
         g.finish();
     }};
+}
+
+/// SE(3) through `lie` beside nalgebra's `IsometryMatrix3`/`Isometry3` and
+/// glam's `Affine3A`/`DAffine3` where the backend has a type for it (they
+/// compose and act; neither has exp or log, so those rows have no
+/// baseline). Ids `vs-native/<op>/<pair> Se3<repr>/<generic|native>`.
+macro_rules! bench_se3 {
+    ($c:expr, $backend:ty, $repr:ident, $native:ty, $to_native:expr, $act:expr, $v:expr, $w:expr) => {{
+        type B = $backend;
+        type G = lie::Se3<B, lie::$repr<B>>;
+        let name = format!(
+            "{} Se3<{}>",
+            <B as lie::Backend>::NAME,
+            stringify!($repr)
+        );
+        let (xi, xi2) = (lie::Twist::<B>::new($w, $v), lie::Twist::<B>::new($v, $w));
+        let (x, y) = (G::exp(xi), G::exp(xi2));
+        let to_native: fn(G) -> $native = $to_native;
+        let (n, n2) = (to_native(x), to_native(y));
+        let p = $v;
+        let mut g = $c.benchmark_group("vs-native");
+        g.bench_function(format!("exp/{name}/generic"), |b| {
+            b.iter(|| G::exp(black_box(xi)))
+        });
+        g.bench_function(format!("log/{name}/generic"), |b| {
+            b.iter(|| black_box(x).log())
+        });
+        g.bench_function(format!("compose/{name}/generic"), |b| {
+            b.iter(|| black_box(x).compose(black_box(y)))
+        });
+        g.bench_function(format!("compose/{name}/native"), |b| {
+            b.iter(|| black_box(n) * black_box(n2))
+        });
+        g.bench_function(format!("act/{name}/generic"), |b| {
+            b.iter(|| black_box(x).act(black_box(p)))
+        });
+        g.bench_function(format!("act/{name}/native"), |b| {
+            b.iter(|| $act(black_box(n), black_box(p)))
+        });
+        g.bench_function(format!("rplus/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus(black_box(x), black_box(xi2)))
+        });
+        g.bench_function(format!("rminus/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus(black_box(y), black_box(x)))
+        });
+        g.bench_function(format!("rplus_jac/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rplus_jac(black_box(x), black_box(xi2)))
+        });
+        g.bench_function(format!("rminus_jac/{name}/generic"), |b| {
+            b.iter(|| <G as lie::LieGroup<B>>::rminus_jac(black_box(y), black_box(x)))
+        });
+        g.finish();
+    }};
+}
+
+fn se3_natives(c: &mut Criterion) {
+    use nalgebra::{Isometry3, IsometryMatrix3, Point3, Translation3, Vector3};
+    let (v64, w64) = (Vector3::new(0.3f64, -0.7, 0.8), Vector3::new(0.3f64, 0.6, 0.9));
+    let (v32, w32) = (Vector3::new(0.3f32, -0.7, 0.8), Vector3::new(0.3f32, 0.6, 0.9));
+    bench_se3!(
+        c,
+        lie::NalgebraF64,
+        So3Mat,
+        IsometryMatrix3<f64>,
+        |x| IsometryMatrix3::from_parts(
+            Translation3::from(x.translation),
+            nalgebra::Rotation3::from_matrix_unchecked(x.rotation.matrix())
+        ),
+        |n: IsometryMatrix3<f64>, p: Vector3<f64>| n * Point3::from(p),
+        v64,
+        w64
+    );
+    bench_se3!(
+        c,
+        lie::NalgebraF64,
+        So3Quat,
+        Isometry3<f64>,
+        |x| Isometry3::from_parts(Translation3::from(x.translation), x.rotation.quaternion()),
+        |n: Isometry3<f64>, p: Vector3<f64>| n * Point3::from(p),
+        v64,
+        w64
+    );
+    bench_se3!(
+        c,
+        lie::NalgebraF32,
+        So3Mat,
+        IsometryMatrix3<f32>,
+        |x| IsometryMatrix3::from_parts(
+            Translation3::from(x.translation),
+            nalgebra::Rotation3::from_matrix_unchecked(x.rotation.matrix())
+        ),
+        |n: IsometryMatrix3<f32>, p: Vector3<f32>| n * Point3::from(p),
+        v32,
+        w32
+    );
+    bench_se3!(
+        c,
+        lie::NalgebraF32,
+        So3Quat,
+        Isometry3<f32>,
+        |x| Isometry3::from_parts(Translation3::from(x.translation), x.rotation.quaternion()),
+        |n: Isometry3<f32>, p: Vector3<f32>| n * Point3::from(p),
+        v32,
+        w32
+    );
+    bench_se3!(
+        c,
+        lie::GlamF64,
+        So3Mat,
+        glam::DAffine3,
+        |x| glam::DAffine3::from_mat3_translation(x.rotation.matrix(), x.translation),
+        |n: glam::DAffine3, p: glam::DVec3| n.transform_point3(p),
+        glam::DVec3::new(0.3, -0.7, 0.8),
+        glam::DVec3::new(0.3, 0.6, 0.9)
+    );
+    bench_se3!(
+        c,
+        lie::GlamF32,
+        So3Mat,
+        glam::Affine3A,
+        |x| glam::Affine3A::from_mat3_translation(x.rotation.matrix(), x.translation),
+        |n: glam::Affine3A, p: glam::Vec3| n.transform_point3(p),
+        glam::Vec3::new(0.3, -0.7, 0.8),
+        glam::Vec3::new(0.3, 0.6, 0.9)
+    );
 }
 
 fn natives(c: &mut Criterion) {
@@ -478,5 +612,5 @@ fn natives(c: &mut Criterion) {
     );
 }
 
-criterion_group!(lie_benches, benches, natives);
+criterion_group!(lie_benches, benches, natives, se3_natives);
 criterion_main!(lie_benches);

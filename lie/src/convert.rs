@@ -59,12 +59,17 @@ pub fn shepperd<B: Backend>(m: M3<B>) -> [S<B>; 4] {
     }
 }
 
-/// Logarithm of a quaternion given as `[w, x, y, z]` (any positive scale).
+/// Logarithm of a unit quaternion given as `[w, x, y, z]`.
 ///
-/// The sign is chosen so that `w ≥ 0`, which puts the angle in `[0, π]`;
-/// then `φ = 2 atan2(|q_v|, w)/|q_v| · q_v`, or its series
-/// `(2/w − (2/3)|q_v|²/w³) q_v` below `Real::CUT_LOG`. At exactly π (`w = 0`)
-/// the result has length π and either sign of the axis is correct.
+/// The sign is chosen so that `w ≥ 0`, which puts the angle in `[0, π]`.
+/// The half angle `α` comes from whichever of `asin|q_v|` (below π/2,
+/// where `|q_v| < w`) and `acos w` (above) is well conditioned there, then
+/// `φ = 2α/|q_v| · q_v`; below `Real::CUT_LOG` the factor is the series
+/// `2 + |q_v|²/3`. One `asin` or `acos` costs half an `atan2`, which is why
+/// the unit norm is assumed rather than divided out: a quaternion off unit
+/// norm by `δ` gives an angle off by about `δ` (products drift by an ulp
+/// each). At exactly π (`w = 0`) the result has length π and either sign
+/// of the axis is correct.
 #[inline]
 pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
     let [mut w, mut x, mut y, mut z] = q;
@@ -73,13 +78,47 @@ pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
     }
     let n2 = x * x + y * y + z * z;
     let n = n2.sqrt();
+    let two = S::<B>::lit(2.0);
     let k = if n < S::<B>::CUT_LOG {
-        let two = S::<B>::lit(2.0);
-        two / w - S::<B>::lit(2.0 / 3.0) * n2 / (w * w * w)
+        two + n2 * S::<B>::lit(1.0 / 3.0)
+    } else if n < w {
+        two * n.asin() / n
     } else {
-        S::<B>::lit(2.0) * n.atan2(w) / n
+        two * w.acos() / n
     };
     B::vec3(x * k, y * k, z * k)
+}
+
+/// Logarithm of a rotation matrix. Below angle π/2 or so (the trace the
+/// largest of Shepperd's pivots), straight from the skew part
+/// `u = (R₃₂ − R₂₃, R₁₃ − R₃₁, R₂₁ − R₁₂) = 2 sin θ · axis` and
+/// `cos θ = (tr R − 1)/2`: `θ = asin(|u|/2)` while `sin θ < cos θ`
+/// (θ < π/4), else `acos`, each where it is well conditioned, so no
+/// quaternion is formed
+/// (one square root and one division fewer). Otherwise through Shepperd's
+/// quaternion, where a diagonal pivot keeps the axis accurate near π.
+#[inline]
+pub fn log_matrix<B: Backend>(m: M3<B>) -> V3<B> {
+    let e = ops::elems::<B>(m);
+    let (m00, m11, m22) = (e[0][0], e[1][1], e[2][2]);
+    let tr = m00 + m11 + m22;
+    if !(tr >= m00 && tr >= m11 && tr >= m22) {
+        return log_wxyz::<B>(shepperd::<B>(m));
+    }
+    let (ux, uy, uz) = (e[2][1] - e[1][2], e[0][2] - e[2][0], e[1][0] - e[0][1]);
+    let s2 = ux * ux + uy * uy + uz * uz;
+    let s = s2.sqrt();
+    let half = S::<B>::lit(0.5);
+    let one = S::<B>::one();
+    // k = θ/(2 sin θ), so that φ = k u.
+    let k = if s < S::<B>::CUT_LOG {
+        half + s2 * S::<B>::lit(1.0 / 48.0)
+    } else if s < tr - one {
+        (s * half).asin() / s
+    } else {
+        ((tr - one) * half).acos() / s
+    };
+    B::vec3(ux * k, uy * k, uz * k)
 }
 
 /// The rotation matrix of a unit quaternion.

@@ -15,7 +15,9 @@
 //!   sides); for a vector argument or value the plus and minus are the
 //!   ordinary ones.
 //! - SO(3) tangents are rotation vectors `φ` (3); SE(3) tangents are
-//!   twists `(ρ, φ)`, translation first (6), as [`Twist`] orders them.
+//!   twists `(ρ, φ)`, translation first (6), as [`Twist`] orders them;
+//!   the rigid-body state [`RigidState`](crate::RigidState) (SO(3) × ℝ⁹)
+//!   has `(φ, x, v, Ω)` (12).
 //!
 //! [`Rotation`] (the paper's attitude errors and the representations'
 //! conversions) has `LieGroup` as its supertrait, so code generic over
@@ -92,10 +94,10 @@ pub trait LieGroup<B: Backend>: Copy {
 
     /// `−τ`.
     fn tangent_neg(tau: Self::Tangent) -> Self::Tangent;
-    /// The tangent's coordinates in the first `DOF` slots.
-    fn tangent_to_coords(tau: Self::Tangent) -> [S<B>; 6];
-    /// A tangent from the first `DOF` coordinates.
-    fn tangent_from_coords(c: [S<B>; 6]) -> Self::Tangent;
+    /// Coordinate `i < DOF` of a tangent.
+    fn tangent_coord(tau: &Self::Tangent, i: usize) -> S<B>;
+    /// The tangent with coordinates `f(0), …, f(DOF − 1)`.
+    fn tangent_from_fn(f: impl FnMut(usize) -> S<B>) -> Self::Tangent;
     /// Element `(row, col)` of a Jacobian.
     fn jacobian_entry(j: &Self::Jacobian, row: usize, col: usize) -> S<B>;
     /// Element `(row, col)` of an action Jacobian (`row < 3`).
@@ -240,13 +242,11 @@ macro_rules! so3_group {
             fn tangent_neg(tau: V3<B>) -> V3<B> {
                 -tau
             }
-            fn tangent_to_coords(tau: V3<B>) -> [S<B>; 6] {
-                let [a, b, c] = B::vec3_to_array(tau);
-                let z = S::<B>::zero();
-                [a, b, c, z, z, z]
+            fn tangent_coord(tau: &V3<B>, i: usize) -> S<B> {
+                B::vec3_to_array(*tau)[i]
             }
-            fn tangent_from_coords(c: [S<B>; 6]) -> V3<B> {
-                B::vec3(c[0], c[1], c[2])
+            fn tangent_from_fn(mut f: impl FnMut(usize) -> S<B>) -> V3<B> {
+                B::vec3(f(0), f(1), f(2))
             }
             fn jacobian_entry(j: &M3<B>, row: usize, col: usize) -> S<B> {
                 ops::elems::<B>(*j)[row][col]
@@ -355,11 +355,11 @@ impl<B: Backend, R: Rotation<B>> LieGroup<B> for Se3<B, R> {
     fn tangent_neg(tau: Twist<B>) -> Twist<B> {
         Twist::new(-tau.rho, -tau.phi)
     }
-    fn tangent_to_coords(tau: Twist<B>) -> [S<B>; 6] {
-        tau.to_array()
+    fn tangent_coord(tau: &Twist<B>, i: usize) -> S<B> {
+        tau.to_array()[i]
     }
-    fn tangent_from_coords(c: [S<B>; 6]) -> Twist<B> {
-        Twist::from_array(c)
+    fn tangent_from_fn(f: impl FnMut(usize) -> S<B>) -> Twist<B> {
+        Twist::from_array(core::array::from_fn(f))
     }
     fn jacobian_entry(j: &Matrix6<S<B>>, row: usize, col: usize) -> S<B> {
         j[row][col]

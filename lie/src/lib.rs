@@ -73,6 +73,7 @@
 compile_error!("lie needs either the `std` or the `libm` feature for its maths functions");
 
 mod backend;
+mod bundle;
 mod convert;
 mod group;
 mod backends {
@@ -89,11 +90,12 @@ pub mod series;
 pub mod so3;
 
 pub use backend::{Backend, M3, S, V3, ops};
+pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
 #[cfg(feature = "glam")]
 pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
-pub use convert::{log_wxyz, shepperd};
+pub use convert::{log_matrix, log_wxyz, shepperd};
 pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;
 pub use quat::So3Quat;
@@ -164,7 +166,8 @@ impl core::error::Error for LieError {}
 /// ```
 pub mod prelude {
     pub use crate::{
-        Backend, LieError, LieGroup, M3, Real, Rotation, S, Se3, So3Mat, So3Quat, Twist, V3, ops,
+        Backend, LieError, LieGroup, M3, Real, RigidState, RigidTangent, Rotation, S, Se3, So3Mat,
+        So3Quat, Twist, V3, ops,
     };
     #[cfg(feature = "glam")]
     pub use crate::{GlamF32, GlamF64};

@@ -61,7 +61,8 @@ impl<B: Backend> So3Quat<B> {
         Self(B::quat_from_wxyz(w, x * k, y * k, z * k))
     }
     /// The rotation vector, angle in `[0, π]` (at exactly π either of
-    /// `±φ`): `2 atan2(|q_v|, w) q_v/|q_v|` with the sign of `w` folded in.
+    /// `±φ`): `2α q_v/|q_v|` with the half angle `α` from `asin|q_v|` or
+    /// `acos w` ([`log_wxyz`](crate::log_wxyz)), the sign of `w` folded in.
     #[inline]
     pub fn log(self) -> V3<B> {
         log_wxyz::<B>(self.wxyz())

@@ -1,7 +1,7 @@
-//! The `LieGroup` trait on SO(3) (matrix and quaternion) and SE(3) (over
-//! both), every backend and scalar: each Jacobian against central finite
-//! differences at random points and at the hard cases, the group
-//! identities, and f32 against f64.
+//! The `LieGroup` trait on SO(3) (matrix and quaternion), SE(3) and the
+//! rigid-body state SO(3) × ℝ⁹ (over both), every backend and scalar:
+//! each Jacobian against central finite differences at random points and
+//! at the hard cases, the group identities, and f32 against f64.
 //!
 //! A test without the libtest harness (`harness = false`), so that
 //! `cargo test -p lie` shows its table: the worst finite-difference error
@@ -11,7 +11,8 @@
 use std::f64::consts::PI;
 
 use lie::{
-    Backend, GlamF32, GlamF64, LieGroup, NalgebraF32, NalgebraF64, Real, S, Se3, So3Mat, So3Quat,
+    Backend, GlamF32, GlamF64, LieGroup, NalgebraF32, NalgebraF64, Real, RigidState, S, Se3,
+    So3Mat, So3Quat,
 };
 
 /// A small deterministic generator (no dependency): uniform in [−1, 1).
@@ -25,14 +26,27 @@ impl Rng {
     }
 }
 
-type C = [f64; 6];
+/// Tangent coordinates, the group's `DOF` first and zeros after (12 is
+/// the largest `DOF` here, the rigid-body state's).
+type C = [f64; 12];
 
 fn coords<B: Backend, G: LieGroup<B>>(t: G::Tangent) -> C {
-    G::tangent_to_coords(t).map(|x| x.to_f64_lossless())
+    core::array::from_fn(|i| {
+        if i < G::DOF {
+            G::tangent_coord(&t, i).to_f64_lossless()
+        } else {
+            0.0
+        }
+    })
 }
 
 fn tangent<B: Backend, G: LieGroup<B>>(c: C) -> G::Tangent {
-    G::tangent_from_coords(c.map(S::<B>::lit))
+    G::tangent_from_fn(|i| S::<B>::lit(c[i]))
+}
+
+/// A point's coordinates padded to a tangent's.
+fn pad3(q: [f64; 3]) -> C {
+    core::array::from_fn(|i| if i < 3 { q[i] } else { 0.0 })
 }
 
 fn jac<B: Backend, G: LieGroup<B>>(j: &G::Jacobian) -> Vec<Vec<f64>> {
@@ -47,39 +61,40 @@ fn jac<B: Backend, G: LieGroup<B>>(j: &G::Jacobian) -> Vec<Vec<f64>> {
 
 /// `e_k · h`.
 fn unit(k: usize, h: f64) -> C {
-    let mut c = [0.0; 6];
+    let mut c = [0.0; 12];
     c[k] = h;
     c
 }
 
 /// A tangent with rotation angle `angle` about a random axis and, for
-/// SE(3), a translation part of norm `trans` in a random direction.
+/// SE(3), a translation part of norm `trans` in a random direction (and
+/// for the rigid-body state velocity and rate parts of that norm too), in
+/// the order `(ρ, φ, v, Ω)`.
 fn tangent_at(rng: &mut Rng, angle: f64, trans: f64) -> C {
     let unit3 = |rng: &mut Rng| {
         let v = [rng.next(), rng.next(), rng.next()];
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         v.map(|x| x / n)
     };
-    let (a, t) = (unit3(rng), unit3(rng));
-    // Rotation first in the coordinates of SO(3); SE(3) orders (ρ, φ).
-    [
-        t[0] * trans,
-        t[1] * trans,
-        t[2] * trans,
-        a[0] * angle,
-        a[1] * angle,
-        a[2] * angle,
-    ]
+    let (a, t, v, w) = (unit3(rng), unit3(rng), unit3(rng), unit3(rng));
+    core::array::from_fn(|i| match i / 3 {
+        0 => t[i] * trans,
+        1 => a[i - 3] * angle,
+        2 => v[i - 6] * trans,
+        _ => w[i - 9] * trans,
+    })
 }
 
 /// The tangent coordinates of `c` for group `G`: SO(3) takes the angle
-/// part.
+/// part, SE(3) `(ρ, φ)`, the rigid-body state `(φ, x, v, Ω)`.
 fn for_group<B: Backend, G: LieGroup<B>>(c: C) -> C {
-    if G::DOF == 3 {
-        [c[3], c[4], c[5], 0.0, 0.0, 0.0]
-    } else {
-        c
-    }
+    core::array::from_fn(|i| match (G::DOF, i) {
+        (3, 0..3) | (12, 0..3) => c[i + 3],
+        (6, 0..6) => c[i],
+        (12, 3..6) => c[i - 3],
+        (12, _) => c[i],
+        _ => 0.0,
+    })
 }
 
 /// `max |A − B| / max(1, max |B|)`.
@@ -187,7 +202,7 @@ fn jacobians<B: Backend, G: LieGroup<B>>(points: &[Point]) -> Vec<(&'static str,
         let f_ax = |d: C| -> C {
             let q =
                 B::vec3_to_array(x.rplus(tangent::<B, G>(d)).act(p)).map(|c| c.to_f64_lossless());
-            [q[0] - pc[0], q[1] - pc[1], q[2] - pc[2], 0.0, 0.0, 0.0]
+            pad3([q[0] - pc[0], q[1] - pc[1], q[2] - pc[2]])
         };
         let fd_ax = fd(n, h, f_ax);
         let an_ax: Vec<Vec<f64>> = (0..3)
@@ -201,7 +216,7 @@ fn jacobians<B: Backend, G: LieGroup<B>>(points: &[Point]) -> Vec<(&'static str,
         let f_ap = |d: C| -> C {
             let dp = B::vec3(S::<B>::lit(d[0]), S::<B>::lit(d[1]), S::<B>::lit(d[2]));
             let q = B::vec3_to_array(x.act(p + dp)).map(|c| c.to_f64_lossless());
-            [q[0] - pc[0], q[1] - pc[1], q[2] - pc[2], 0.0, 0.0, 0.0]
+            pad3([q[0] - pc[0], q[1] - pc[1], q[2] - pc[2]])
         };
         let fd_ap = fd(3, h, f_ap);
         let e = lie::ops::elems::<B>(jap);
@@ -309,7 +324,7 @@ fn identities<B: Backend, G: LieGroup<B>>(pair: &str) -> [f64; 5] {
         // Away from π, where Log's branch is well defined for X·Exp(τ)·X⁻¹.
         let tc = coords::<B, G>(t);
         if tc[..].iter().any(|v| v.abs() > 0.0)
-            && for_group::<B, G>(pt.t)[3..6]
+            && pt.t[3..6]
                 .iter()
                 .map(|v| v * v)
                 .sum::<f64>()
@@ -355,6 +370,10 @@ fn group_identities_to_rounding() {
             "nalgebra f64 Se3<So3Mat>",
         ),
         identities::<GlamF64, Se3<GlamF64, So3Quat<GlamF64>>>("glam f64 Se3<So3Quat>"),
+        identities::<NalgebraF64, RigidState<NalgebraF64, So3Mat<NalgebraF64>>>(
+            "nalgebra f64 Rigid<So3Mat>",
+        ),
+        identities::<GlamF64, RigidState<GlamF64, So3Quat<GlamF64>>>("glam f64 Rigid<So3Quat>"),
     ] {
         assert!(w.iter().all(|e| *e < f64_tol), "{w:?}");
     }
@@ -369,6 +388,7 @@ fn group_identities_to_rounding() {
             "nalgebra f32 Se3<So3Quat>",
         ),
         identities::<GlamF32, Se3<GlamF32, So3Mat<GlamF32>>>("glam f32 Se3<So3Mat>"),
+        identities::<GlamF32, RigidState<GlamF32, So3Mat<GlamF32>>>("glam f32 Rigid<So3Mat>"),
     ] {
         assert!(w.iter().all(|e| *e < f32_tol), "{w:?}");
     }
@@ -398,7 +418,7 @@ fn f32_vs_f64<B32: Backend, G32: LieGroup<B32>, B64: Backend, G64: LieGroup<B64>
         let (m64, c64, d64) = y64.rminus_jac(x64);
         let v = |a: C, b: C| {
             let s = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-            (0..6).fold(0.0f64, |m, i| m.max((a[i] - b[i]).abs())) / s
+            (0..12).fold(0.0f64, |m, i| m.max((a[i] - b[i]).abs())) / s
         };
         worst = worst
             .max(v(
@@ -429,6 +449,12 @@ fn f32_agrees_with_f64_away_from_singular_points() {
             GlamF64,
             Se3<GlamF64, So3Quat<GlamF64>>,
         >(),
+        f32_vs_f64::<
+            NalgebraF32,
+            RigidState<NalgebraF32, So3Quat<NalgebraF32>>,
+            NalgebraF64,
+            RigidState<NalgebraF64, So3Quat<NalgebraF64>>,
+        >(),
     ];
     let shown: Vec<String> = w.iter().map(|e| format!("{e:.1e}")).collect();
     println!("f32 vs f64, worst relative difference: {}", shown.join(" "));
@@ -452,6 +478,16 @@ fn jacobians_against_finite_differences() {
     check::<NalgebraF64, Se3<NalgebraF64, So3Quat<NalgebraF64>>>("nalgebra f64 Se3<So3Quat>", tol);
     check::<GlamF64, Se3<GlamF64, So3Mat<GlamF64>>>("glam f64 Se3<So3Mat>", tol);
     check::<GlamF64, Se3<GlamF64, So3Quat<GlamF64>>>("glam f64 Se3<So3Quat>", tol);
+    check::<NalgebraF64, RigidState<NalgebraF64, So3Mat<NalgebraF64>>>(
+        "nalgebra f64 Rigid<So3Mat>",
+        tol,
+    );
+    check::<NalgebraF64, RigidState<NalgebraF64, So3Quat<NalgebraF64>>>(
+        "nalgebra f64 Rigid<So3Quat>",
+        tol,
+    );
+    check::<GlamF64, RigidState<GlamF64, So3Mat<GlamF64>>>("glam f64 Rigid<So3Mat>", tol);
+    check::<GlamF64, RigidState<GlamF64, So3Quat<GlamF64>>>("glam f64 Rigid<So3Quat>", tol);
 }
 
 fn main() {

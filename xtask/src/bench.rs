@@ -12,6 +12,9 @@
 //!    is none). Closed-loop rows are per step (the 1000-step median / 1000);
 //!    the `paper-flip rk4 1 ms whole run` rows are the whole 4 s flight
 //!    with a sample every 0.05 s (the bench prints its final error first).
+//!    Then the `vs-native` group of `lie/benches/lie.rs` (each SO(3) and
+//!    SE(3) operation beside nalgebra's and glam's own types), printed as a
+//!    second table with its ratios.
 //! 2. Sweeps every stepper over its steps (dopri over tolerances) on
 //!    `paper-flip` and `free-rigid-body` for the four pairs
 //!    (`xtask/src/sweep.rs`), writing `target/bench/work_precision.csv` and
@@ -79,11 +82,14 @@ fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
     b
 }
 
-fn criterion(package: &str, bench: &str, quick: bool) -> Result<(), String> {
+fn criterion(package: &str, bench: &str, filter: &str, quick: bool) -> Result<(), String> {
     let mut cmd = Command::new(env!("CARGO"));
     cmd.args(["bench", "-q", "-p", package, "--bench", bench, "--"])
         .current_dir(workspace_root())
         .stdout(Stdio::null());
+    if !filter.is_empty() {
+        cmd.arg(filter);
+    }
     if quick {
         cmd.args(["--warm-up-time", "0.3", "--measurement-time", "0.7"]);
     }
@@ -183,11 +189,15 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let started = std::time::Instant::now();
     if !a.no_run {
-        let b = bar(2, "criterion");
-        eprintln!("running criterion benches (controllers update, scenarios step)…");
-        criterion("controllers", "update", a.quick)?;
+        let b = bar(3, "criterion");
+        eprintln!(
+            "running criterion benches (controllers update, scenarios step, lie vs the backends' own types)…"
+        );
+        criterion("controllers", "update", "", a.quick)?;
         b.inc(1);
-        criterion("scenarios", "step", a.quick)?;
+        criterion("scenarios", "step", "", a.quick)?;
+        b.inc(1);
+        criterion("lie", "lie", "vs-native", a.quick)?;
         b.inc(1);
         b.finish_and_clear();
     }
@@ -235,6 +245,9 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         );
     }
     println!("{}", flip_error_line()?);
+    let mut raw = Vec::new();
+    crate::collect(&crit, &mut raw)?;
+    lie_table(&raw, true);
     let summary = out_dir.join("summary.csv");
     std::fs::write(&summary, csv).map_err(|e| format!("{}: {e}", summary.display()))?;
 
@@ -450,4 +463,57 @@ fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> 
     drop(panels);
     drop(side);
     figure::finish(root, path, shown)
+}
+
+/// Prints the lie bench's medians as a table: against the hand-written
+/// twins (ids `<op>/<pair>/<generic|hand>`), or with `native` against the
+/// backend's own types (ids `vs-native/<op>/<pair>/<generic|native>`), with
+/// the ratio and how many rows are over the 1.10 goal. Returns that count.
+pub fn lie_table(rows: &[(String, f64)], native: bool) -> usize {
+    // (op, pair) -> (generic, baseline)
+    let mut table: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
+    let base = if native { "native" } else { "hand" };
+    for (id, median) in rows {
+        let parts: Vec<&str> = id.split('/').collect();
+        let (op, pair, kind) = match (native, &parts[..]) {
+            (true, ["vs-native", op, pair, kind]) => (op, pair, kind),
+            (false, [op, pair, kind]) => (op, pair, kind),
+            _ => continue,
+        };
+        let entry = table.entry((op.to_string(), pair.to_string())).or_default();
+        match *kind {
+            "generic" => entry.0 = Some(*median),
+            k if k == base => entry.1 = Some(*median),
+            _ => {}
+        }
+    }
+    if table.is_empty() {
+        return 0;
+    }
+    let what = if native {
+        "the backend's own type"
+    } else {
+        "hand-written"
+    };
+    println!("\n| operation | pair | lie (ns) | {what} (ns) | ratio |");
+    println!("|---|---|---|---|---|");
+    let mut over = 0;
+    for ((op, pair), (g, h)) in &table {
+        let fmt = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.2}"));
+        let ratio = match (g, h) {
+            (Some(g), Some(h)) => {
+                over += usize::from(g / h > 1.10);
+                format!("{:.2}", g / h)
+            }
+            _ => "–".to_string(),
+        };
+        println!("| {op} | {pair} | {} | {} | {ratio} |", fmt(*g), fmt(*h));
+    }
+    let with = table.values().filter(|(g, h)| g.is_some() && h.is_some());
+    println!(
+        "{} rows, {} with a baseline, {over} over the 1.10 goal",
+        table.len(),
+        with.count()
+    );
+    over
 }

@@ -36,7 +36,6 @@ mod run;
 mod stress;
 mod sweep;
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -170,37 +169,8 @@ fn bench_table() -> Result<(), String> {
     }
     let mut rows = Vec::new();
     collect(&root, &mut rows)?;
-    // (op, pair) -> (generic, hand)
-    let mut table: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
-    for (id, median) in rows {
-        let parts: Vec<&str> = id.split('/').collect();
-        if let [op, pair, kind] = parts[..] {
-            let entry = table.entry((op.to_string(), pair.to_string())).or_default();
-            match kind {
-                "generic" => entry.0 = Some(median),
-                "hand" => entry.1 = Some(median),
-                _ => {}
-            }
-        }
-    }
-    println!("| operation | pair | generic (ns) | hand-written (ns) | ratio |");
-    println!("|---|---|---|---|---|");
-    let mut over = 0;
-    for ((op, pair), (g, h)) in &table {
-        let fmt = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.2}"));
-        let ratio = match (g, h) {
-            (Some(g), Some(h)) => {
-                let r = g / h;
-                if r > 1.10 {
-                    over += 1;
-                }
-                format!("{r:.2}")
-            }
-            _ => "–".to_string(),
-        };
-        println!("| {op} | {pair} | {} | {} | {ratio} |", fmt(*g), fmt(*h));
-    }
-    println!("\n{} rows, {over} over the 1.10 goal", table.len());
+    bench::lie_table(&rows, false);
+    bench::lie_table(&rows, true);
     Ok(())
 }
 
