@@ -68,8 +68,10 @@ use lie::num_traits::{Float, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
 pub mod free_body;
+pub mod multirotor;
 mod vehicles;
 
+pub use multirotor::{Multirotor, MultirotorParams, Rotor};
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
@@ -353,6 +355,21 @@ pub trait Vehicle<B: Backend>: Send + Sync {
         states: &[S<B>],
     ) -> Loads<B> {
         loads_applied(self, t, state, self.applied_wrench(commanded, states))
+    }
+    /// [`Vehicle::total_loads`] in a wind `wind` (the inertial velocity of
+    /// the air, m/s), which the simulation's environment evaluates at the
+    /// vehicle. The default ignores the wind (a vehicle without
+    /// aerodynamics feels none); vehicles with drag override this.
+    #[inline]
+    fn total_loads_in_wind(
+        &self,
+        t: S<B>,
+        state: &RigidBodyState<B>,
+        commanded: &Wrench<B>,
+        states: &[S<B>],
+        _wind: V3<B>,
+    ) -> Loads<B> {
+        self.total_loads(t, state, commanded, states)
     }
 }
 

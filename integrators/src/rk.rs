@@ -1,8 +1,8 @@
 //! Explicit Runge–Kutta steppers: Euler and RK4 on the embedding (R as nine
 //! numbers), RKMK4 on the group.
 
-use lie::num_traits::Zero;
 use dynamics::RigidBodyState;
+use lie::num_traits::Zero;
 use lie::{
     Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, So3Mat, V3, hat, right_jacobian_inv,
 };

@@ -409,11 +409,7 @@ macro_rules! bench_se3 {
     ($c:expr, $backend:ty, $repr:ident, $native:ty, $to_native:expr, $act:expr, $v:expr, $w:expr) => {{
         type B = $backend;
         type G = lie::Se3<B, lie::$repr<B>>;
-        let name = format!(
-            "{} Se3<{}>",
-            <B as lie::Backend>::NAME,
-            stringify!($repr)
-        );
+        let name = format!("{} Se3<{}>", <B as lie::Backend>::NAME, stringify!($repr));
         let (xi, xi2) = (lie::Twist::<B>::new($w, $v), lie::Twist::<B>::new($v, $w));
         let (x, y) = (G::exp(xi), G::exp(xi2));
         let to_native: fn(G) -> $native = $to_native;
@@ -456,8 +452,14 @@ macro_rules! bench_se3 {
 
 fn se3_natives(c: &mut Criterion) {
     use nalgebra::{Isometry3, IsometryMatrix3, Point3, Translation3, Vector3};
-    let (v64, w64) = (Vector3::new(0.3f64, -0.7, 0.8), Vector3::new(0.3f64, 0.6, 0.9));
-    let (v32, w32) = (Vector3::new(0.3f32, -0.7, 0.8), Vector3::new(0.3f32, 0.6, 0.9));
+    let (v64, w64) = (
+        Vector3::new(0.3f64, -0.7, 0.8),
+        Vector3::new(0.3f64, 0.6, 0.9),
+    );
+    let (v32, w32) = (
+        Vector3::new(0.3f32, -0.7, 0.8),
+        Vector3::new(0.3f32, 0.6, 0.9),
+    );
     bench_se3!(
         c,
         lie::NalgebraF64,

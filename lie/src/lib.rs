@@ -90,11 +90,11 @@ pub mod series;
 pub mod so3;
 
 pub use backend::{Backend, M3, S, V3, ops};
-pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
 #[cfg(feature = "glam")]
 pub use backends::glam::{GlamF32, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
+pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
 pub use convert::{log_matrix, log_wxyz, shepperd};
 pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;

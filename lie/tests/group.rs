@@ -324,11 +324,7 @@ fn identities<B: Backend, G: LieGroup<B>>(pair: &str) -> [f64; 5] {
         // Away from π, where Log's branch is well defined for X·Exp(τ)·X⁻¹.
         let tc = coords::<B, G>(t);
         if tc[..].iter().any(|v| v.abs() > 0.0)
-            && pt.t[3..6]
-                .iter()
-                .map(|v| v * v)
-                .sum::<f64>()
-                < 9.0
+            && pt.t[3..6].iter().map(|v| v * v).sum::<f64>() < 9.0
         {
             let a = coords::<B, G>(G::jacobian_apply(&x.adjoint(), t));
             let b = coords::<B, G>(x.compose(G::exp(t)).compose(x.inverse()).log());
