@@ -70,8 +70,10 @@ use lie::{Backend, M3, Real, S, V3, ops};
 pub mod free_body;
 pub mod multirotor;
 mod vehicles;
+pub mod wind;
 
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
+pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind};
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
