@@ -73,7 +73,7 @@ mod vehicles;
 pub mod wind;
 
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
-pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind};
+pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to

@@ -28,7 +28,10 @@
 use lie::num_traits::{Float, One, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
-use crate::{DynamicsError, Loads, RigidBodyState, Vehicle, Wrench, check_inertia, check_positive};
+use crate::{
+    Disturbance, DynamicsError, Loads, RigidBodyState, Vehicle, Wrench, check_inertia,
+    check_positive,
+};
 
 /// The most rotors a [`Multirotor`] has: its evaluations keep rotor
 /// values on the stack.
@@ -150,6 +153,7 @@ impl<B: Backend> MultirotorParams<B> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Multirotor<B: Backend> {
     p: MultirotorParams<B>,
+    disturbance: Option<Disturbance<B>>,
     /// Rows of the 4×n allocation `(f, M1, M2, M3) = A u` of rotor thrusts.
     alloc: [Vec<S<B>>; 4],
     /// Its minimum-norm inverse `Aᵀ(AAᵀ)⁻¹`, n rows of 4.
@@ -224,9 +228,16 @@ impl<B: Backend> Multirotor<B> {
         let alloc_inv = min_norm_inverse::<B>(&alloc)?;
         Ok(Self {
             p,
+            disturbance: None,
             alloc,
             alloc_inv,
         })
+    }
+
+    /// Adds constant loads (the paper's `Δ_x`, inertial, and `Δ_R`, body).
+    pub fn with_disturbance(mut self, d: Disturbance<B>) -> Self {
+        self.disturbance = Some(d);
+        self
     }
 
     /// The parameters.
@@ -302,16 +313,22 @@ impl<B: Backend> Multirotor<B> {
         (force, moment)
     }
 
-    /// The loads (inertial force with gravity, body moment) at rotor
-    /// `speeds` in `wind` (inertial air velocity, m/s).
+    /// The loads (inertial force with gravity, body moment, and the
+    /// constant disturbance if one was added) at rotor `speeds` in `wind`
+    /// (inertial air velocity, m/s).
     pub fn loads_at(&self, state: &RigidBodyState<B>, speeds: &[S<B>], wind: V3<B>) -> Loads<B> {
         let airspeed = B::mat3_tr_mul_vec(state.r, state.v - wind);
         let (fb, mb) = self.body_wrench(speeds, state.omega, airspeed);
         let z = S::<B>::zero();
-        Loads {
+        let mut l = Loads {
             force: B::vec3(z, z, self.p.mass * self.p.gravity) + state.r * fb,
             moment: mb,
+        };
+        if let Some(d) = self.disturbance {
+            l.force = l.force + d.force;
+            l.moment = l.moment + d.moment;
         }
+        l
     }
 
     fn with_speeds<T>(

@@ -9,6 +9,27 @@
 //! MIL-HDBK-1797 turbulence over a mean wind, reproducible from its seed and
 //! independent of the integrator's steps).
 
+/// A wind parameter out of range: the field and what is wrong with it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindError {
+    /// The parameter (`times`, `sigma`, `speed`, …).
+    pub field: &'static str,
+    /// The value and what was expected.
+    pub message: String,
+}
+
+impl core::fmt::Display for WindError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{}: {}", self.field, self.message)
+    }
+}
+
+impl std::error::Error for WindError {}
+
+fn werr(field: &'static str, message: String) -> WindError {
+    WindError { field, message }
+}
+
 /// A wind field. `velocity` takes `&mut self` so that a field may extend a
 /// cache as time goes on (Dryden's filter states), but its value must be a
 /// function of `(t, x)` alone: integrators evaluate it at stage times, out
@@ -65,25 +86,28 @@ impl LadderWind {
     /// Checks that there is one velocity per time, at least one, times
     /// finite and strictly increasing, velocities finite; the error names
     /// the field and the value.
-    pub fn new(times: Vec<f64>, velocities: Vec<[f64; 3]>) -> Result<Self, String> {
+    pub fn new(times: Vec<f64>, velocities: Vec<[f64; 3]>) -> Result<Self, WindError> {
         if times.is_empty() || times.len() != velocities.len() {
-            return Err(format!(
-                "times: {} times for {} velocities; give one time per velocity, at least one",
-                times.len(),
-                velocities.len()
+            return Err(werr(
+                "times",
+                format!(
+                    "{} times for {} velocities; give one time per velocity, at least one",
+                    times.len(),
+                    velocities.len()
+                ),
             ));
         }
         if let Some(w) = times.windows(2).find(|w| !(w[1] > w[0])) {
-            return Err(format!(
-                "times: {} then {}; times must increase strictly",
-                w[0], w[1]
+            return Err(werr(
+                "times",
+                format!("{} then {}; times must increase strictly", w[0], w[1]),
             ));
         }
         if let Some(t) = times.iter().find(|t| !t.is_finite()) {
-            return Err(format!("times: {t} is not finite"));
+            return Err(werr("times", format!("{t} is not finite")));
         }
         if let Some(v) = velocities.iter().find(|v| v.iter().any(|c| !c.is_finite())) {
-            return Err(format!("velocities: {v:?} is not finite"));
+            return Err(werr("velocities", format!("{v:?} is not finite")));
         }
         Ok(Self { times, velocities })
     }
@@ -177,29 +201,32 @@ impl DrydenSpec {
 impl DrydenWind {
     /// Checks the parameters (σ ≥ 0, L > 0, V > 0, `0 < grid ≤ L/(10V)`,
     /// all finite); the error names the field and the value.
-    pub fn new(p: DrydenSpec) -> Result<Self, String> {
-        let finite = |name: &str, v: &[f64]| -> Result<(), String> {
+    pub fn new(p: DrydenSpec) -> Result<Self, WindError> {
+        let finite = |name: &'static str, v: &[f64]| -> Result<(), WindError> {
             match v.iter().find(|c| !c.is_finite()) {
-                Some(c) => Err(format!("{name}: {c} is not finite")),
+                Some(c) => Err(werr(name, format!("{c} is not finite"))),
                 None => Ok(()),
             }
         };
         finite("mean", &p.mean)?;
         finite("sigma", &p.sigma)?;
         if let Some(s) = p.sigma.iter().find(|s| **s < 0.0) {
-            return Err(format!("sigma: {s} is negative"));
+            return Err(werr("sigma", format!("{s} is negative")));
         }
         if let Some(l) = p.length.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
-            return Err(format!("length: {l}; scale lengths must be finite and > 0"));
+            return Err(werr("length", format!("{l}; scale lengths must be finite and > 0")));
         }
         if !(p.speed > 0.0 && p.speed.is_finite()) {
-            return Err(format!("speed: {}; must be finite and > 0", p.speed));
+            return Err(werr("speed", format!("{}; must be finite and > 0", p.speed)));
         }
         let t_min = p.length.iter().fold(f64::INFINITY, |m, l| m.min(l / p.speed));
         if !(p.grid > 0.0 && p.grid <= t_min / 10.0) {
-            return Err(format!(
-                "grid: {} s; must be > 0 and at most a tenth of the shortest filter time constant L/V = {t_min} s",
-                p.grid
+            return Err(werr(
+                "grid",
+                format!(
+                    "{} s; must be > 0 and at most a tenth of the shortest filter time constant L/V = {t_min} s",
+                    p.grid
+                ),
             ));
         }
         let h = (p.mean[0] * p.mean[0] + p.mean[1] * p.mean[1]).sqrt();
@@ -359,11 +386,12 @@ mod tests {
     #[test]
     fn bad_parameters_are_named() {
         let e = DrydenWind::new(DrydenSpec { speed: 0.0, ..DrydenSpec::gusty() }).unwrap_err();
-        assert!(e.starts_with("speed: 0"), "{e}");
+        assert_eq!(e.field, "speed");
+        assert_eq!(e.to_string(), "speed: 0; must be finite and > 0");
         let e = DrydenWind::new(DrydenSpec { grid: 1.0, ..DrydenSpec::gusty() }).unwrap_err();
-        assert!(e.starts_with("grid: 1 s"), "{e}");
+        assert_eq!(e.field, "grid");
         let e = LadderWind::new(vec![1.0, 1.0], vec![[0.0; 3]; 2]).unwrap_err();
-        assert!(e.starts_with("times: 1 then 1"), "{e}");
+        assert_eq!(e.to_string(), "times: 1 then 1; times must increase strictly");
         let mut l = LadderWind::new(vec![1.0, 2.0], vec![[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]).unwrap();
         assert_eq!(l.velocity(0.5, [0.0; 3])[0], 1.0);
         assert_eq!(l.velocity(2.0, [0.0; 3])[0], 2.0);

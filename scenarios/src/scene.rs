@@ -30,6 +30,10 @@ pub struct Scene {
     /// when absent.
     #[serde(default)]
     pub disturbance: Option<DisturbanceSpec>,
+    /// The wind; none when absent. Only vehicles with aerodynamics (the
+    /// `multirotor` kind) feel it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindSpec>,
     /// Initial state.
     #[serde(default)]
     pub initial: InitialSpec,
@@ -92,6 +96,11 @@ pub enum VehicleKind {
     /// joint `stand_height` below its centre of gravity, so gravity tips it
     /// over (an inverted 3D pendulum); attitude only.
     AttitudeStand,
+    /// A multirotor with motor lag and aerodynamics (RotorPy's model):
+    /// the airframe from `mass`, `inertia`, `gravity` and `arm` (four
+    /// rotors in the X layout), rotors and aerodynamics from the
+    /// `[vehicle.multirotor]` table (a preset and overrides).
+    Multirotor,
     /// A kind registered by a program ([`crate::Registry::vehicle`]), by
     /// name; its own parameters go in `[vehicle.params]`.
     Custom(String),
@@ -99,12 +108,13 @@ pub enum VehicleKind {
 
 impl VehicleKind {
     /// The built-in kinds.
-    pub const BUILT_IN: [VehicleKind; 5] = [
+    pub const BUILT_IN: [VehicleKind; 6] = [
         VehicleKind::Quadrotor,
         VehicleKind::PinnedQuadrotor,
         VehicleKind::FreeRigidBody,
         VehicleKind::Hexarotor,
         VehicleKind::AttitudeStand,
+        VehicleKind::Multirotor,
     ];
 
     /// The name used in scene files.
@@ -115,6 +125,7 @@ impl VehicleKind {
             VehicleKind::FreeRigidBody => "free-rigid-body",
             VehicleKind::Hexarotor => "hexarotor",
             VehicleKind::AttitudeStand => "attitude-stand",
+            VehicleKind::Multirotor => "multirotor",
             VehicleKind::Custom(name) => name,
         }
     }
@@ -170,6 +181,208 @@ pub struct VehicleSpec {
     /// empty for the built-ins.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, f64>,
+    /// `multirotor` only: the rotor and aerodynamic parameters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multirotor: Option<MultirotorSpec>,
+}
+
+/// The rotors and aerodynamics of a `multirotor` vehicle: a RotorPy
+/// preset and, under RotorPy's names, any parameter to change in it (the
+/// airframe's mass, inertia and arm come from the vehicle table).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MultirotorSpec {
+    /// `crazyflie` or `hummingbird` (RotorPy 3.0.0's parameter sets).
+    pub preset: Preset,
+    /// Thrust coefficient, N/(rad/s)².
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_eta: Option<f64>,
+    /// Yaw-moment coefficient, N m/(rad/s)².
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_m: Option<f64>,
+    /// Rotor drag coefficient, kg/rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_d: Option<f64>,
+    /// Induced-inflow coefficient, kg/rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_z: Option<f64>,
+    /// Translational-lift coefficient, kg/m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_h: Option<f64>,
+    /// Flapping-moment coefficient, kg m/rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_flap: Option<f64>,
+    /// Parasitic drag along b1, N/(m/s)².
+    #[serde(rename = "c_Dx", skip_serializing_if = "Option::is_none")]
+    pub c_dx: Option<f64>,
+    /// Parasitic drag along b2, N/(m/s)².
+    #[serde(rename = "c_Dy", skip_serializing_if = "Option::is_none")]
+    pub c_dy: Option<f64>,
+    /// Parasitic drag along b3, N/(m/s)².
+    #[serde(rename = "c_Dz", skip_serializing_if = "Option::is_none")]
+    pub c_dz: Option<f64>,
+    /// Motor time constant, s (0: rotors follow their commands at once).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tau_m: Option<f64>,
+    /// Lowest rotor speed, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_speed_min: Option<f64>,
+    /// Highest rotor speed, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_speed_max: Option<f64>,
+    /// Aerodynamic terms on (RotorPy's `aero`; default true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aero: Option<bool>,
+}
+
+/// A RotorPy parameter set.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// Bitcraze Crazyflie 2.0 (30 g; 72 ms motors).
+    #[default]
+    Crazyflie,
+    /// AscTec Hummingbird (0.5 kg; 5 ms motors, parasitic drag, lift).
+    Hummingbird,
+}
+
+/// The air's velocity, inertial frame (e3 down), m/s.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum WindSpec {
+    /// A steady, uniform wind.
+    Constant {
+        /// m/s.
+        velocity: [f64; 3],
+    },
+    /// `mean + amplitude · sin(2π frequency t + phase)`.
+    Sinusoid {
+        /// m/s.
+        #[serde(default)]
+        mean: [f64; 3],
+        /// m/s.
+        amplitude: [f64; 3],
+        /// Hz.
+        frequency: f64,
+        /// rad.
+        #[serde(default)]
+        phase: f64,
+    },
+    /// `velocities[k]` from `times[k]` on; the steps land on the times.
+    Ladder {
+        /// s, increasing.
+        times: Vec<f64>,
+        /// m/s, one per time.
+        velocities: Vec<[f64; 3]>,
+    },
+    /// Dryden turbulence over a mean wind (MIL-F-8785C forming filters
+    /// driven by noise on a fixed grid, reproducible from `seed`).
+    Dryden {
+        /// Mean wind, m/s.
+        #[serde(default)]
+        mean: [f64; 3],
+        /// σ of the longitudinal, lateral and vertical components, m/s
+        /// (default 1).
+        #[serde(default = "dryden_sigma")]
+        sigma: [f64; 3],
+        /// Scale lengths L_u, L_v, L_w, m (default 94, 94, 15: the
+        /// low-altitude values at 15 m).
+        #[serde(default = "dryden_length")]
+        length: [f64; 3],
+        /// Speed the turbulence is carried past the vehicle at, m/s
+        /// (default 5).
+        #[serde(default = "dryden_speed")]
+        speed: f64,
+        /// Noise seed (default 1).
+        #[serde(default = "dryden_seed")]
+        seed: u64,
+        /// Noise grid, s (default 0.005).
+        #[serde(default = "dryden_grid")]
+        grid: f64,
+    },
+}
+
+fn dryden_sigma() -> [f64; 3] {
+    dynamics::DrydenSpec::gusty().sigma
+}
+fn dryden_length() -> [f64; 3] {
+    dynamics::DrydenSpec::gusty().length
+}
+fn dryden_speed() -> f64 {
+    dynamics::DrydenSpec::gusty().speed
+}
+fn dryden_seed() -> u64 {
+    dynamics::DrydenSpec::gusty().seed
+}
+fn dryden_grid() -> f64 {
+    dynamics::DrydenSpec::gusty().grid
+}
+
+impl WindSpec {
+    /// The wind field; an error names the `wind.<field>` key.
+    pub fn build(&self) -> Result<Box<dyn dynamics::Wind>, (&'static str, String)> {
+        use dynamics::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind};
+        let key = |e: dynamics::WindError| {
+            let k = match e.field {
+                "times" => "wind.times",
+                "velocities" => "wind.velocities",
+                "mean" => "wind.mean",
+                "sigma" => "wind.sigma",
+                "length" => "wind.length",
+                "speed" => "wind.speed",
+                _ => "wind.grid",
+            };
+            (k, format!("`{k}`: {}", e.message))
+        };
+        let finite = |k: &'static str, v: &[f64]| match v.iter().find(|c| !c.is_finite()) {
+            Some(c) => Err((k, format!("`{k}` = {c}: must be finite"))),
+            None => Ok(()),
+        };
+        Ok(match self {
+            WindSpec::Constant { velocity } => {
+                finite("wind.velocity", velocity)?;
+                Box::new(ConstantWind(*velocity))
+            }
+            WindSpec::Sinusoid {
+                mean,
+                amplitude,
+                frequency,
+                phase,
+            } => {
+                finite("wind.mean", mean)?;
+                finite("wind.amplitude", amplitude)?;
+                finite("wind.frequency", &[*frequency])?;
+                finite("wind.phase", &[*phase])?;
+                Box::new(SinusoidWind {
+                    mean: *mean,
+                    amplitude: *amplitude,
+                    frequency: *frequency,
+                    phase: *phase,
+                })
+            }
+            WindSpec::Ladder { times, velocities } => {
+                Box::new(LadderWind::new(times.clone(), velocities.clone()).map_err(key)?)
+            }
+            WindSpec::Dryden {
+                mean,
+                sigma,
+                length,
+                speed,
+                seed,
+                grid,
+            } => Box::new(
+                DrydenWind::new(DrydenSpec {
+                    mean: *mean,
+                    sigma: *sigma,
+                    length: *length,
+                    speed: *speed,
+                    seed: *seed,
+                    grid: *grid,
+                })
+                .map_err(key)?,
+            ),
+        })
+    }
 }
 
 impl Default for VehicleSpec {
@@ -184,6 +397,7 @@ impl Default for VehicleSpec {
             c_tau_f: paper::C_TAU_F,
             stand_height: 0.0,
             params: BTreeMap::new(),
+            multirotor: None,
         }
     }
 }
@@ -613,6 +827,7 @@ impl Scene {
         }
         nonneg("vehicle.gravity", ve.gravity)?;
         pos("vehicle.arm", ve.arm)?;
+        self.validate_multirotor()?;
         nonneg("vehicle.stand_height", ve.stand_height)?;
         if !(ve.c_tau_f.is_finite() && ve.c_tau_f != 0.0) {
             return Err((
@@ -626,8 +841,60 @@ impl Scene {
         Ok(())
     }
 
+    /// The `[vehicle.multirotor]` table: present exactly for the
+    /// `multirotor` kind, parameters the vehicle accepts, and rotors that
+    /// can lift the airframe (a scene that names a preset but keeps the
+    /// default airframe, the paper's 4.34 kg, would otherwise fall).
+    fn validate_multirotor(&self) -> Result<(), (&'static str, String)> {
+        let ve = &self.vehicle;
+        let key = "vehicle.multirotor";
+        match (&ve.kind, &ve.multirotor) {
+            (VehicleKind::Multirotor, None) => {
+                return Err((
+                    key,
+                    "the `multirotor` kind needs a `[vehicle.multirotor]` table with \
+                     `preset = \"crazyflie\"` or `\"hummingbird\"`"
+                        .into(),
+                ));
+            }
+            (VehicleKind::Multirotor, Some(_)) => {}
+            (k, Some(_)) => {
+                return Err((
+                    key,
+                    format!(
+                        "`[vehicle.multirotor]` is for the `multirotor` kind, not `{}`",
+                        k.name()
+                    ),
+                ));
+            }
+            (_, None) => return Ok(()),
+        }
+        let p = crate::from_scene::multirotor_params::<lie::NalgebraF64>(self);
+        let lift = p.rotors.len() as f64 * p.k_eta * p.rotor_speed_max * p.rotor_speed_max;
+        if let Err(e) = dynamics::Multirotor::new(p) {
+            return Err((key, format!("`[vehicle.multirotor]`: {e}")));
+        }
+        if lift <= ve.mass * ve.gravity {
+            return Err((
+                "vehicle.mass",
+                format!(
+                    "`vehicle.mass` = {} kg: the rotors lift at most {lift:.4} N (n k_eta \
+                     rotor_speed_max²), not the weight {:.4} N; give the airframe's own mass, \
+                     inertia and arm (the crazyflie's: mass = 0.03, inertia = [1.43e-5, \
+                     1.43e-5, 2.89e-5], arm = 0.043)",
+                    ve.mass,
+                    ve.mass * ve.gravity
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Disturbances, initial state, gains, integrator, control, recording.
     fn validate_settings(&self) -> Result<(), (&'static str, String)> {
+        if let Some(w) = &self.wind {
+            w.build()?;
+        }
         if let Some(d) = &self.disturbance {
             finite3("disturbance.force", &d.force)?;
             finite3("disturbance.moment", &d.moment)?;
@@ -765,7 +1032,10 @@ impl Scene {
             ModeKind::Position
                 if !matches!(
                     self.vehicle.kind,
-                    VehicleKind::Quadrotor | VehicleKind::Hexarotor | VehicleKind::Custom(_)
+                    VehicleKind::Quadrotor
+                        | VehicleKind::Hexarotor
+                        | VehicleKind::Multirotor
+                        | VehicleKind::Custom(_)
                 ) =>
             {
                 return Err((

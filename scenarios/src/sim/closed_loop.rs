@@ -3,11 +3,12 @@
 //! active, switching into the next).
 
 use controllers::{ControlError, ModeOutput, VehicleState};
-use dynamics::{Vehicle, Wrench};
+use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
 use lie::{Backend, Real, S, So3Mat};
 
+use super::record::f3;
 use super::{Segment, SwitchRecord, Until};
 
 /// A command with the integral register's rates (slots `0..m`).
@@ -19,6 +20,7 @@ pub(crate) struct Command<B: Backend, const N: usize> {
 
 pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub vehicle: &'s dyn Vehicle<B>,
+    pub wind: Option<&'s mut (dyn Wind + 'a)>,
     pub plan: &'s mut [Segment<'a, B>],
     pub active: usize,
     /// Integral slots `0..m`, vehicle states `m..m + nv`.
@@ -56,6 +58,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     /// inertia.
     pub fn new(
         vehicle: &'s dyn Vehicle<B>,
+        wind: Option<&'s mut (dyn Wind + 'a)>,
         plan: &'s mut [Segment<'a, B>],
         m: usize,
         nv: usize,
@@ -67,6 +70,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             })?;
         Ok(Self {
             vehicle,
+            wind,
             plan,
             active: 0,
             m,
@@ -97,11 +101,13 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     /// The loop around `vehicle` and `plan` as it was parked.
     pub fn resume(
         vehicle: &'s dyn Vehicle<B>,
+        wind: Option<&'s mut (dyn Wind + 'a)>,
         plan: &'s mut [Segment<'a, B>],
         p: &Parked<B, N>,
     ) -> Self {
         Self {
             vehicle,
+            wind,
             plan,
             active: p.active,
             m: p.m,
@@ -112,6 +118,14 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             inertia_inv: p.inertia_inv,
             evaluations: p.evaluations,
             error: None,
+        }
+    }
+
+    /// The wind at `(t, y)` (zero without one).
+    pub fn wind_at(&mut self, t: f64, y: &State<B, N>) -> [f64; 3] {
+        match self.wind.as_deref_mut() {
+            Some(w) => w.velocity(t, f3::<B>(y.body.x)),
+            None => [0.0; 3],
         }
     }
 
@@ -314,7 +328,15 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
-        let l = self.vehicle.total_loads(t, &y.body, &w, states);
+        let l = match self.wind.as_deref_mut() {
+            None => self.vehicle.total_loads(t, &y.body, &w, states),
+            Some(wind) => {
+                let air = wind.velocity(t.to_f64_lossless(), f3::<B>(y.body.x));
+                let air = B::vec3(S::<B>::lit(air[0]), S::<B>::lit(air[1]), S::<B>::lit(air[2]));
+                self.vehicle
+                    .total_loads_in_wind(t, &y.body, &w, states, air)
+            }
+        };
         if nv > 0 {
             self.vehicle
                 .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);

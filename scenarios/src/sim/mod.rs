@@ -27,7 +27,7 @@ mod stepping;
 use std::sync::atomic::AtomicBool;
 
 use controllers::{Mode, ModeOutput};
-use dynamics::{RigidBodyState, Vehicle};
+use dynamics::{RigidBodyState, Vehicle, Wind};
 use integrators::{Integrator, IntegratorKind, State, Stepper, StepperConfig};
 use lie::num_traits::Float;
 use lie::{Backend, Real, S};
@@ -76,6 +76,8 @@ pub struct Sample {
     pub rotors: Vec<f64>,
     /// The vehicle's internal states (empty for a vehicle without any).
     pub vehicle_states: Vec<f64>,
+    /// The wind at the vehicle, inertial, m/s (zero without one).
+    pub wind: [f64; 3],
 }
 
 /// A mode switch.
@@ -641,6 +643,8 @@ pub enum Control {
 /// ```
 pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     vehicle: Box<dyn Vehicle<B> + 'a>,
+    /// The air's velocity, evaluated at the vehicle at every load.
+    wind: Option<Box<dyn Wind + 'a>>,
     plan: Vec<Segment<'a, B>>,
     stepper: I,
     /// The state now: the initial state until the run starts.
@@ -666,6 +670,7 @@ impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
     pub fn builder(vehicle: Box<dyn Vehicle<B> + 'a>) -> SimulationBuilder<'a, B, N> {
         SimulationBuilder {
             vehicle,
+            wind: None,
             plan: Vec::new(),
             stepper: Stepper::new(IntegratorKind::Rk4, StepperConfig::default()),
             initial: RigidBodyState::at_rest(),
@@ -881,6 +886,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
 /// bad one.
 pub struct SimulationBuilder<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     vehicle: Box<dyn Vehicle<B> + 'a>,
+    wind: Option<Box<dyn Wind + 'a>>,
     plan: Vec<Segment<'a, B>>,
     stepper: I,
     initial: RigidBodyState<B>,
@@ -930,6 +936,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     pub fn integrator<J: Integrator<B, N>>(self, stepper: J) -> SimulationBuilder<'a, B, N, J> {
         SimulationBuilder {
             vehicle: self.vehicle,
+            wind: self.wind,
             plan: self.plan,
             stepper,
             initial: self.initial,
@@ -978,6 +985,13 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
     /// predicate's own state.
     pub fn stop_when(mut self, condition: Condition<'a, B>) -> Self {
         self.stop = Some(condition);
+        self
+    }
+    /// The wind the vehicle flies in (none by default): evaluated at the
+    /// vehicle's position at every load and handed to
+    /// [`Vehicle::total_loads_in_wind`]; the steps land on its jumps.
+    pub fn wind(mut self, wind: Box<dyn Wind + 'a>) -> Self {
+        self.wind = Some(wind);
         self
     }
     /// End the run with [`Termination::Diverged`] when it passes one of
@@ -1128,8 +1142,10 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
             stepper.limit_substeps(c);
         }
         let mut plan = self.plan;
+        let mut wind = self.wind;
         let mut running = stepping::prepare(
             self.vehicle.as_ref(),
+            wind.as_deref_mut(),
             &mut plan,
             &stepping::Settings {
                 control: self.control,
@@ -1145,6 +1161,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         running.out.warnings.extend(self.warnings);
         Ok(Simulation {
             vehicle: self.vehicle,
+            wind,
             plan,
             stepper,
             y: initial,

@@ -35,6 +35,7 @@ pub(crate) fn empty_sample() -> Sample {
         e_pos: [0.0; 3],
         rotors: Vec::new(),
         vehicle_states: Vec::new(),
+        wind: [0.0; 3],
     }
 }
 
@@ -146,6 +147,7 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     s.v = f3::<B>(y.body.v);
     s.r = fm::<B>(y.body.r);
     s.omega = f3::<B>(y.body.omega);
+    s.wind = sys.wind_at(t, y);
     let ex = |k: usize| {
         if k < sys.m {
             y.extra[k].to_f64_lossless()

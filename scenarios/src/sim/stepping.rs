@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
-use dynamics::{Vehicle, Wrench};
+use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
 
@@ -239,9 +239,10 @@ impl<B: Backend, const N: usize> Running<B, N> {
 
 /// The loop's state before the first step of `sim`'s run (its output
 /// names the modes and carries the plan's warnings).
-pub(crate) fn prepare<B: Backend, const N: usize>(
+pub(crate) fn prepare<'a, B: Backend, const N: usize>(
     vehicle: &dyn Vehicle<B>,
-    plan: &mut [Segment<'_, B>],
+    wind: Option<&mut (dyn Wind + 'a)>,
+    plan: &mut [Segment<'a, B>],
     s: &Settings,
 ) -> Result<Running<B, N>, SimError> {
     let sampled = matches!(s.control, Control::Sampled { .. }) && !plan.is_empty();
@@ -252,12 +253,13 @@ pub(crate) fn prepare<B: Backend, const N: usize>(
     let sys = ClosedLoop {
         sampled,
         compensate: s.compensate,
-        ..ClosedLoop::new(vehicle, plan, s.m, s.nv)?
+        ..ClosedLoop::new(vehicle, wind, plan, s.m, s.nv)?
     };
     let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
     out.epsilon = <S<B> as lie::num_traits::Float>::epsilon().to_f64_lossless();
     out.warnings = plan_warnings(sys.plan, ctrl, s.dt, s.t_end);
-    let grid = Grid::new(sys.plan, ctrl, s.t_end);
+    let jumps = sys.wind.as_deref().map_or_else(Vec::new, |w| w.jumps(s.t_end));
+    let grid = Grid::new(sys.plan, ctrl, s.t_end, jumps);
     Ok(Running {
         t: 0.0,
         done: None,
@@ -307,6 +309,7 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
     let wall = Instant::now();
     let Simulation {
         vehicle,
+        wind,
         plan,
         stepper,
         y,
@@ -319,7 +322,7 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
     if r.done.is_some() {
         return Ok(());
     }
-    let mut sys = ClosedLoop::resume(vehicle.as_ref(), plan, &r.parked);
+    let mut sys = ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), plan, &r.parked);
     if !r.started {
         r.extrema = opts.extrema;
         r.rec.keep = opts.record;
@@ -367,6 +370,7 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
 ) -> Result<RunOutput, SimError> {
     let Simulation {
         vehicle,
+        mut wind,
         mut plan,
         mut y,
         mut running,
@@ -374,7 +378,8 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     } = sim;
     let r = &mut *running;
     if r.done.is_none() {
-        let mut sys = ClosedLoop::resume(vehicle.as_ref(), &mut plan, &r.parked);
+        let mut sys =
+            ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), &mut plan, &r.parked);
         let mut emit = Emit {
             r: r.rec,
             sink: None,
@@ -664,10 +669,20 @@ struct Grid {
     k_ctrl: u64,
     switch_times: Vec<f64>,
     k_sw: usize,
+    /// Times the wind jumps at (sorted): checkpoints, not switches.
+    jumps: Vec<f64>,
+    k_jump: usize,
 }
 
 impl Grid {
-    fn new<B: Backend>(plan: &[super::Segment<'_, B>], ctrl: f64, t_end: f64) -> Self {
+    fn new<B: Backend>(
+        plan: &[super::Segment<'_, B>],
+        ctrl: f64,
+        t_end: f64,
+        mut jumps: Vec<f64>,
+    ) -> Self {
+        jumps.retain(|t| *t > 0.0 && *t < t_end);
+        jumps.sort_by(f64::total_cmp);
         let switch_times = plan
             .iter()
             .filter_map(|s| match s.until {
@@ -681,6 +696,8 @@ impl Grid {
             k_ctrl: 0,
             switch_times,
             k_sw: 0,
+            jumps,
+            k_jump: 0,
         }
     }
 
@@ -693,12 +710,18 @@ impl Grid {
         if let Some(&ts) = self.switch_times.get(self.k_sw) {
             t_next = t_next.min(ts);
         }
+        if let Some(&tj) = self.jumps.get(self.k_jump) {
+            t_next = t_next.min(tj);
+        }
         t_next
     }
 
     /// Arrived at checkpoint `t`: whether a time switch is due there, and
     /// whether it is a control instant.
     fn arrive(&mut self, t: f64) -> (bool, bool) {
+        while self.jumps.get(self.k_jump).is_some_and(|&tj| tj <= t) {
+            self.k_jump += 1;
+        }
         let switch_due = self.switch_times.get(self.k_sw).is_some_and(|&ts| ts <= t);
         if switch_due {
             self.k_sw += 1;
