@@ -89,7 +89,8 @@ class Result:
     recorded sample) and the run's figures.
 
     Arrays: ``t`` (n,), ``x``, ``v``, ``omega``, ``moment``, ``xd``,
-    ``omega_d``, ``e_att``, ``e_pos`` (n, 3), ``R``, ``Rd`` (n, 3, 3),
+    ``omega_d``, ``e_att``, ``e_pos``, ``wind`` (n, 3; the air's velocity
+    at the vehicle, zero without a ``[wind]``), ``R``, ``Rd`` (n, 3, 3),
     ``psi``, ``ex``, ``thrust`` (n,), ``rotors`` (n, rotors),
     ``vehicle_states`` (n, k), ``segment`` (n,) int. Lists: ``mode`` (the
     active mode's name per sample), ``mode_names`` (per plan segment),
@@ -104,7 +105,7 @@ class Result:
 
     _ARRAYS = (
         "t", "x", "v", "R", "omega", "psi", "ex", "thrust", "moment", "Rd",
-        "omega_d", "xd", "e_att", "e_pos", "rotors", "vehicle_states",
+        "omega_d", "xd", "e_att", "e_pos", "wind", "rotors", "vehicle_states",
     )
 
     def __init__(self, fields: Dict[str, Any]):

@@ -60,6 +60,7 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bou
     d.set_item("xd", rows(py, s.iter().map(|s| s.xd))?)?;
     d.set_item("e_att", rows(py, s.iter().map(|s| s.e_att))?)?;
     d.set_item("e_pos", rows(py, s.iter().map(|s| s.e_pos))?)?;
+    d.set_item("wind", rows(py, s.iter().map(|s| s.wind))?)?;
     for (key, get) in [
         (
             "rotors",

@@ -441,3 +441,28 @@ def test_ctrl_c_interrupts_a_long_run_cleanly(call):
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("interrupted after"), done.stdout
     assert float(done.stdout.split()[-1]) < 5.0
+
+
+def test_wind_reaches_the_multirotor_and_its_log():
+    # gusty-hover: RotorPy's crazyflie in Dryden turbulence (σ = 1 m/s).
+    r = geopid.run("gusty-hover", duration=2.0)
+    assert r.wind.shape == (len(r.t), 3)
+    # Over 2 s the gusts reach tenths of a m/s on some axis.
+    assert np.abs(r.wind).max() > 0.1
+    assert r.vehicle_states.shape == (len(r.t), 4)  # rotor speeds, rad/s
+    assert 1000.0 < r.vehicle_states.max() < 2500.0
+    # The same scene without wind holds the point far better.
+    text = geopid.load_scene("gusty-hover").to_toml()
+    head, tail = text.split("[wind]\n", 1)
+    rest = tail[tail.index("\n[") + 1:] if "\n[" in tail else ""
+    calm = head + '[wind]\nkind = "constant"\nvelocity = [0.0, 0.0, 0.0]\n' + rest
+    c = geopid.run(calm, duration=2.0)
+    assert np.abs(c.wind).max() == 0.0
+    assert c.ex.max() < 0.5 * r.ex.max()
+
+
+def test_a_bad_wind_parameter_names_its_key():
+    text = geopid.load_scene("gusty-hover").to_toml().replace("speed = 5.0", "speed = 0.0")
+    with pytest.raises(geopid.SceneError) as e:
+        geopid.load_scene(text)
+    assert e.value.key == "wind.speed", str(e.value)

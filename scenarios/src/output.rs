@@ -557,7 +557,12 @@ pub fn quaternion_xyzw(r: &[[f64; 3]; 3]) -> [f64; 4] {
 /// written only for a vehicle that has them.
 pub const STATES_TOPIC: &str = "/vehicle/states";
 
-/// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]).
+/// The topic of the wind at the vehicle (`foxglove.Vector3`, inertial,
+/// m/s), written from the first sample with a non-zero wind on.
+pub const WIND_TOPIC: &str = "/wind";
+
+/// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]
+/// and [`WIND_TOPIC`]).
 pub const TOPICS: [&str; 7] = [
     "/vehicle/pose",
     "/desired/pose",
@@ -684,6 +689,8 @@ const BATCH: usize = 4096;
 
 /// The channel slot of `/vehicle/states` (created at its first message).
 const STATES_SLOT: u8 = 7;
+/// The channel slot of `/wind` (created at its first message).
+const WIND_SLOT: u8 = 8;
 
 type Mcap = mcap::Writer<mcap::write::NoSeek<BufWriter<File>>>;
 
@@ -701,30 +708,31 @@ fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> Result<u16, mca
 }
 
 /// The writer thread: writes each batch's messages, creating the states
-/// channel at its first message; returns the writer for `finish`.
+/// and wind channels at their first messages; returns the writer for
+/// `finish`.
 fn write_batches(
     mut w: Mcap,
     ch: [u16; 7],
     rx: std::sync::mpsc::Receiver<Batch>,
 ) -> Result<Mcap, mcap::McapError> {
-    let mut seq = [0u32; 8];
-    let mut states: Option<u16> = None;
+    let mut seq = [0u32; 9];
+    // Channels created on demand: (slot, topic, schema, id once created).
+    let mut lazy: [(u8, &str, Option<foxglove::Schema>, Option<u16>); 2] = [
+        (STATES_SLOT, STATES_TOPIC, msg::VehicleStates::get_schema(), None),
+        (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
+    ];
     for batch in rx {
         let mut start = 0;
         for &(slot, ns, end) in &batch.msgs {
-            let channel_id = if slot == STATES_SLOT {
-                match states {
-                    Some(id) => id,
-                    None => {
-                        let schema = add_schema(&mut w, msg::VehicleStates::get_schema())?;
-                        let id =
-                            w.add_channel(schema, STATES_TOPIC, "protobuf", &BTreeMap::new())?;
-                        states = Some(id);
-                        id
-                    }
+            let channel_id = match lazy.iter_mut().find(|l| l.0 == slot) {
+                Some((_, _, _, Some(id))) => *id,
+                Some((_, topic, schema, id)) => {
+                    let schema = add_schema(&mut w, schema.take())?;
+                    let new = w.add_channel(schema, topic, "protobuf", &BTreeMap::new())?;
+                    *id = Some(new);
+                    new
                 }
-            } else {
-                ch[usize::from(slot)]
+                None => ch[usize::from(slot)],
             };
             let k = usize::from(slot);
             seq[k] = seq[k].wrapping_add(1);
@@ -778,6 +786,7 @@ pub struct McapWriter {
     body_tf: FrameTransform,
     command: msg::Command,
     states: msg::VehicleStates,
+    wind_on: bool,
 }
 
 /// The longest simulated time between two `world → ned` transforms, ns.
@@ -844,6 +853,7 @@ impl McapWriter {
             },
             command: msg::Command::default(),
             states: msg::VehicleStates::default(),
+            wind_on: false,
         })
     }
 
@@ -1009,6 +1019,11 @@ impl Sink for McapWriter {
             self.states.states.extend_from_slice(&s.vehicle_states);
             enc(&mut self.batch.bytes, &self.path, &self.states)?;
             self.put(STATES_SLOT, ns)?;
+        }
+        self.wind_on |= s.wind != [0.0; 3];
+        if self.wind_on {
+            self.encode(&v3(s.wind))?;
+            self.put(WIND_SLOT, ns)?;
         }
         Ok(())
     }
