@@ -73,8 +73,8 @@ mod vehicles;
 pub mod wind;
 
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
-pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
+pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
 /// inertial), position and velocity in the inertial frame, angular velocity

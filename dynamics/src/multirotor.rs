@@ -294,7 +294,7 @@ impl<B: Backend> Multirotor<B> {
             if p.aero {
                 let vi = airspeed + B::cross(omega, r.position);
                 let [vx, vy, _] = B::vec3_to_array(vi);
-                lift = lift + p.k_h * (vx * vx + vy * vy);
+                lift += p.k_h * (vx * vx + vy * vy);
                 f = rotor_drag * vi * (-w);
                 moment = moment + B::cross(vi, e3) * (p.k_flap * w);
             }

@@ -97,7 +97,10 @@ impl LadderWind {
                 ),
             ));
         }
-        if let Some(w) = times.windows(2).find(|w| !(w[1] > w[0])) {
+        if let Some(w) = times
+            .windows(2)
+            .find(|w| w[1].partial_cmp(&w[0]) != Some(core::cmp::Ordering::Greater))
+        {
             return Err(werr(
                 "times",
                 format!("{} then {}; times must increase strictly", w[0], w[1]),
@@ -214,12 +217,21 @@ impl DrydenWind {
             return Err(werr("sigma", format!("{s} is negative")));
         }
         if let Some(l) = p.length.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
-            return Err(werr("length", format!("{l}; scale lengths must be finite and > 0")));
+            return Err(werr(
+                "length",
+                format!("{l}; scale lengths must be finite and > 0"),
+            ));
         }
         if !(p.speed > 0.0 && p.speed.is_finite()) {
-            return Err(werr("speed", format!("{}; must be finite and > 0", p.speed)));
+            return Err(werr(
+                "speed",
+                format!("{}; must be finite and > 0", p.speed),
+            ));
         }
-        let t_min = p.length.iter().fold(f64::INFINITY, |m, l| m.min(l / p.speed));
+        let t_min = p
+            .length
+            .iter()
+            .fold(f64::INFINITY, |m, l| m.min(l / p.speed));
         if !(p.grid > 0.0 && p.grid <= t_min / 10.0) {
             return Err(werr(
                 "grid",
@@ -286,7 +298,11 @@ impl DrydenWind {
             let k = s * (l / (core::f64::consts::PI * v)).sqrt();
             k / (t * t) * x1 + k * 3f64.sqrt() / t * x2
         };
-        [ku * x[0], second(x[1], x[2], sv, lv), second(x[3], x[4], sw, lw)]
+        [
+            ku * x[0],
+            second(x[1], x[2], sv, lv),
+            second(x[3], x[4], sw, lw),
+        ]
     }
 }
 
@@ -303,7 +319,11 @@ impl Wind for DrydenWind {
             let next = self.advance(self.states[j], self.noise(j as u64), self.grid);
             self.states.push(next);
         }
-        let x = self.advance(self.states[k], self.noise(k as u64), t - k as f64 * self.grid);
+        let x = self.advance(
+            self.states[k],
+            self.noise(k as u64),
+            t - k as f64 * self.grid,
+        );
         let [u, v, w] = self.output(x);
         core::array::from_fn(|i| {
             self.mean[i] + u * self.axes[0][i] + v * self.axes[1][i] + w * self.axes[2][i]
@@ -322,7 +342,11 @@ fn mix(mut z: u64) -> u64 {
 /// uniforms from the mixed key): a function of the key alone, so noise
 /// sample `k` is the same whichever order the samples are asked for.
 fn normal(seed: u64, k: u64, axis: u64) -> f64 {
-    let key = mix(seed ^ mix(k.wrapping_mul(3).wrapping_add(axis).wrapping_add(0x9e37_79b9_7f4a_7c15)));
+    let key = mix(seed
+        ^ mix(k
+            .wrapping_mul(3)
+            .wrapping_add(axis)
+            .wrapping_add(0x9e37_79b9_7f4a_7c15)));
     let a = mix(key);
     let b = mix(key ^ 0xd1b5_4a32_d192_ed03);
     let u1 = ((a >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
@@ -348,7 +372,9 @@ mod tests {
         let mut w = DrydenWind::new(spec).expect("valid");
         let dt = 0.05;
         let n = 60_000;
-        let samples: Vec<[f64; 3]> = (0..n).map(|k| w.velocity(k as f64 * dt, [0.0; 3])).collect();
+        let samples: Vec<[f64; 3]> = (0..n)
+            .map(|k| w.velocity(k as f64 * dt, [0.0; 3]))
+            .collect();
         for axis in 0..3 {
             let var = samples.iter().map(|s| s[axis] * s[axis]).sum::<f64>() / n as f64;
             println!("Dryden axis {axis}: variance {var:.3} (σ² = 1)");
@@ -379,20 +405,35 @@ mod tests {
         assert_ne!(c.velocity(3.21, [0.0; 3]), fwd[0]);
         // Continuous across a grid point.
         let g = spec.grid;
-        let (l, r) = (a.velocity(100.0 * g - 1e-12, [0.0; 3]), a.velocity(100.0 * g, [0.0; 3]));
+        let (l, r) = (
+            a.velocity(100.0 * g - 1e-12, [0.0; 3]),
+            a.velocity(100.0 * g, [0.0; 3]),
+        );
         assert!((0..3).all(|i| (l[i] - r[i]).abs() < 1e-9), "{l:?} {r:?}");
     }
 
     #[test]
     fn bad_parameters_are_named() {
-        let e = DrydenWind::new(DrydenSpec { speed: 0.0, ..DrydenSpec::gusty() }).unwrap_err();
+        let e = DrydenWind::new(DrydenSpec {
+            speed: 0.0,
+            ..DrydenSpec::gusty()
+        })
+        .unwrap_err();
         assert_eq!(e.field, "speed");
         assert_eq!(e.to_string(), "speed: 0; must be finite and > 0");
-        let e = DrydenWind::new(DrydenSpec { grid: 1.0, ..DrydenSpec::gusty() }).unwrap_err();
+        let e = DrydenWind::new(DrydenSpec {
+            grid: 1.0,
+            ..DrydenSpec::gusty()
+        })
+        .unwrap_err();
         assert_eq!(e.field, "grid");
         let e = LadderWind::new(vec![1.0, 1.0], vec![[0.0; 3]; 2]).unwrap_err();
-        assert_eq!(e.to_string(), "times: 1 then 1; times must increase strictly");
-        let mut l = LadderWind::new(vec![1.0, 2.0], vec![[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]).unwrap();
+        assert_eq!(
+            e.to_string(),
+            "times: 1 then 1; times must increase strictly"
+        );
+        let mut l =
+            LadderWind::new(vec![1.0, 2.0], vec![[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]).unwrap();
         assert_eq!(l.velocity(0.5, [0.0; 3])[0], 1.0);
         assert_eq!(l.velocity(2.0, [0.0; 3])[0], 2.0);
         assert_eq!(l.jumps(10.0), vec![1.0, 2.0]);

@@ -29,7 +29,10 @@ fn figures(scene: &Scene) -> Result<[f64; 5], Box<dyn std::error::Error>> {
         .iter()
         .flat_map(|s| {
             if s.vehicle_states.is_empty() {
-                s.rotors.iter().map(|f| (f.max(0.0) / k_eta).sqrt()).collect::<Vec<_>>()
+                s.rotors
+                    .iter()
+                    .map(|f| (f.max(0.0) / k_eta).sqrt())
+                    .collect::<Vec<_>>()
             } else {
                 s.vehicle_states.clone()
             }
@@ -45,7 +48,9 @@ fn figures(scene: &Scene) -> Result<[f64; 5], Box<dyn std::error::Error>> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    println!("| scene | integral terms | τ_m | RMS ‖e_x‖ (m) | max ‖e_x‖ (m) | RMS Ψ | max Ψ | peak rotor speed (rad/s) |");
+    println!(
+        "| scene | integral terms | τ_m | RMS ‖e_x‖ (m) | max ‖e_x‖ (m) | RMS Ψ | max Ψ | peak rotor speed (rad/s) |"
+    );
     println!("|---|---|---|---|---|---|---|---|");
     for name in ["gusty-hover", "figure-eight-wind"] {
         for tau_m in [0.072, 0.0] {

@@ -416,7 +416,10 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
         b = b.segment(seg);
     }
     if let Some(w) = &scene.wind {
-        b = b.wind(w.build().map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?);
+        b = b.wind(
+            w.build()
+                .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?,
+        );
     }
     Ok(b.warnings(warning))
 }

@@ -718,7 +718,12 @@ fn write_batches(
     let mut seq = [0u32; 9];
     // Channels created on demand: (slot, topic, schema, id once created).
     let mut lazy: [(u8, &str, Option<foxglove::Schema>, Option<u16>); 2] = [
-        (STATES_SLOT, STATES_TOPIC, msg::VehicleStates::get_schema(), None),
+        (
+            STATES_SLOT,
+            STATES_TOPIC,
+            msg::VehicleStates::get_schema(),
+            None,
+        ),
         (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
     ];
     for batch in rx {

@@ -332,7 +332,11 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             None => self.vehicle.total_loads(t, &y.body, &w, states),
             Some(wind) => {
                 let air = wind.velocity(t.to_f64_lossless(), f3::<B>(y.body.x));
-                let air = B::vec3(S::<B>::lit(air[0]), S::<B>::lit(air[1]), S::<B>::lit(air[2]));
+                let air = B::vec3(
+                    S::<B>::lit(air[0]),
+                    S::<B>::lit(air[1]),
+                    S::<B>::lit(air[2]),
+                );
                 self.vehicle
                     .total_loads_in_wind(t, &y.body, &w, states, air)
             }

@@ -258,7 +258,10 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
     let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
     out.epsilon = <S<B> as lie::num_traits::Float>::epsilon().to_f64_lossless();
     out.warnings = plan_warnings(sys.plan, ctrl, s.dt, s.t_end);
-    let jumps = sys.wind.as_deref().map_or_else(Vec::new, |w| w.jumps(s.t_end));
+    let jumps = sys
+        .wind
+        .as_deref()
+        .map_or_else(Vec::new, |w| w.jumps(s.t_end));
     let grid = Grid::new(sys.plan, ctrl, s.t_end, jumps);
     Ok(Running {
         t: 0.0,
