@@ -127,6 +127,12 @@ pub enum ControlError {
     },
     /// A [`Scheduler`] was given an empty plan.
     EmptyPlan,
+    /// A mode commanded rotor speeds ([`Mode::rotor_speeds`]) to a vehicle
+    /// that cannot take them (its actuators are not rotors with speeds).
+    RotorSpeedsUnsupported {
+        /// The mode's name.
+        mode: &'static str,
+    },
 }
 
 impl core::fmt::Display for ControlError {
@@ -139,6 +145,11 @@ impl core::fmt::Display for ControlError {
                 write!(f, "controller input `{field}` is not finite")
             }
             ControlError::EmptyPlan => write!(f, "the flight-mode plan has no segments"),
+            ControlError::RotorSpeedsUnsupported { mode } => write!(
+                f,
+                "mode `{mode}` commands rotor speeds, which this vehicle cannot take \
+                 (the `multirotor` kind can)"
+            ),
         }
     }
 }

@@ -238,6 +238,23 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     fn desired_position(&self, _t: f64) -> Option<[f64; 3]> {
         None
     }
+    /// Rotor speeds (rad/s) to command *instead of* the wrench of
+    /// [`Mode::command`], written into `speeds` (one per rotor): for a law
+    /// of another family that outputs rotor speeds (RotorPy's
+    /// `SE3Control`), or a recorded sequence replayed open loop. Called
+    /// after `command` at the same `(t, state)`; returns whether it wrote
+    /// them. The default, `false`, commands the wrench. The vehicle must
+    /// take rotor-speed commands, else the run stops with
+    /// [`ControlError::RotorSpeedsUnsupported`]; `command`'s output is
+    /// still what the logs show as the desired attitude and `Ψ`.
+    fn rotor_speeds(
+        &mut self,
+        _t: S<B>,
+        _state: &VehicleState<B, R>,
+        _speeds: &mut [S<B>],
+    ) -> bool {
+        false
+    }
 }
 
 impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
@@ -267,6 +284,9 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         (**self).desired_position(t)
+    }
+    fn rotor_speeds(&mut self, t: S<B>, state: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
+        (**self).rotor_speeds(t, state, speeds)
     }
 }
 

@@ -317,6 +317,10 @@ pub trait Vehicle<B: Backend>: Send + Sync {
     /// first command (e.g. rotors already spinning at the commanded
     /// thrust). `states` has `state_count()` entries, zero on entry.
     fn initial_states(&self, _commanded: &Wrench<B>, _states: &mut [S<B>]) {}
+    /// Values of the internal states at the start of a run whose first
+    /// command is rotor speeds `speeds` (a mode that commands them): the
+    /// rotors spinning at them. The default leaves the states at zero.
+    fn initial_states_at_rotor_speeds(&self, _speeds: &[S<B>], _states: &mut [S<B>]) {}
     /// Time derivatives of the internal states under the commanded wrench,
     /// written into `rates` (`state_count()` entries).
     fn state_rates(
@@ -357,6 +361,22 @@ pub trait Vehicle<B: Backend>: Send + Sync {
         states: &[S<B>],
     ) -> Loads<B> {
         loads_applied(self, t, state, self.applied_wrench(commanded, states))
+    }
+    /// The loads when the rotors are commanded `speeds` (rad/s) directly
+    /// instead of a wrench, in internal state `states` and wind `wind`,
+    /// with the internal states' rates written into `rates`. `None` (the
+    /// default) for a vehicle whose actuators are not rotors with speeds.
+    #[allow(clippy::too_many_arguments)]
+    fn loads_at_rotor_speeds(
+        &self,
+        _t: S<B>,
+        _state: &RigidBodyState<B>,
+        _speeds: &[S<B>],
+        _states: &[S<B>],
+        _rates: &mut [S<B>],
+        _wind: V3<B>,
+    ) -> Option<Loads<B>> {
+        None
     }
     /// [`Vehicle::total_loads`] in a wind `wind` (the inertial velocity of
     /// the air, m/s), which the simulation's environment evaluates at the

@@ -509,6 +509,11 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
     fn initial_states(&self, commanded: &Wrench<B>, states: &mut [S<B>]) {
         self.speed_commands(commanded, states);
     }
+    fn initial_states_at_rotor_speeds(&self, speeds: &[S<B>], states: &mut [S<B>]) {
+        for (s, w) in states.iter_mut().zip(speeds) {
+            *s = w.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
+        }
+    }
     fn state_rates(
         &self,
         _t: S<B>,
@@ -533,6 +538,28 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
         states: &[S<B>],
     ) -> Loads<B> {
         self.total_loads_in_wind(t, state, commanded, states, ops::zero::<B>())
+    }
+    /// The commands go through the motor lag (clamped to the speed
+    /// limits), or straight to the rotors when `τ_m = 0`.
+    fn loads_at_rotor_speeds(
+        &self,
+        _t: S<B>,
+        state: &RigidBodyState<B>,
+        speeds: &[S<B>],
+        states: &[S<B>],
+        rates: &mut [S<B>],
+        wind: V3<B>,
+    ) -> Option<Loads<B>> {
+        if self.p.tau_m > S::<B>::zero() {
+            self.motor_rates(speeds, states, rates);
+            return Some(self.loads_at(state, states, wind));
+        }
+        let mut w = [S::<B>::zero(); MAX_ROTORS];
+        let n = speeds.len().min(MAX_ROTORS);
+        for (w, c) in w.iter_mut().zip(speeds) {
+            *w = c.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
+        }
+        Some(self.loads_at(state, &w[..n], wind))
     }
     fn total_loads_in_wind(
         &self,

@@ -10,12 +10,15 @@ use lie::{Backend, Real, S, So3Mat};
 
 use super::record::f3;
 use super::{Segment, SwitchRecord, Until};
+use dynamics::multirotor::MAX_ROTORS;
 
 /// A command with the integral register's rates (slots `0..m`).
 #[derive(Copy, Clone)]
 pub(crate) struct Command<B: Backend, const N: usize> {
     pub out: ModeOutput<B>,
     pub rates: [S<B>; N],
+    /// Rotor speeds the mode commands instead of the wrench, and how many.
+    pub speeds: Option<([S<B>; MAX_ROTORS], usize)>,
 }
 
 pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
@@ -35,6 +38,9 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub evaluations: u64,
     /// The first input a mode rejected since it was last taken.
     pub error: Option<ControlError>,
+    /// Where a mode writes rotor-speed commands (kept, not zeroed per
+    /// evaluation: only a mode that writes them is read from it).
+    pub speed_buf: [S<B>; MAX_ROTORS],
 }
 
 /// What a [`ClosedLoop`] holds besides its borrows: kept between two calls
@@ -50,6 +56,18 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     compensate: bool,
     inertia_inv: lie::M3<B>,
     pub evaluations: u64,
+}
+
+/// A load of NaNs: what a failed command hands the integrator, which then
+/// stops on a non-finite state (the error is kept for the report).
+fn nan_load<B: Backend, const N: usize>() -> Load<B, N> {
+    let nan = S::<B>::nan();
+    let n = B::vec3(nan, nan, nan);
+    Load {
+        force: n,
+        moment: n,
+        extra_rate: [nan; N],
+    }
 }
 
 impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
@@ -81,6 +99,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             inertia_inv,
             evaluations: 0,
             error: None,
+            speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
         })
     }
 
@@ -118,6 +137,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             inertia_inv: p.inertia_inv,
             evaluations: p.evaluations,
             error: None,
+            speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
         }
     }
 
@@ -134,8 +154,9 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     #[inline]
     pub fn command(&mut self, t: S<B>, y: &State<B, N>) -> Option<Command<B, N>> {
         let mut rates = [S::<B>::lit(0.0); N];
-        let out = self.command_into(t, y, &mut rates)?;
-        Some(Command { out, rates })
+        let mut speeds = None;
+        let out = self.command_into(t, y, &mut rates, &mut speeds)?;
+        Some(Command { out, rates, speeds })
     }
 
     /// [`ClosedLoop::command`] writing the integral rates into `rates`
@@ -147,6 +168,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         t: S<B>,
         y: &State<B, N>,
         rates: &mut [S<B>; N],
+        speeds: &mut Option<([S<B>; MAX_ROTORS], usize)>,
     ) -> Option<ModeOutput<B>> {
         let seg = self.plan.get_mut(self.active)?;
         let st = VehicleState {
@@ -162,6 +184,10 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                     && let Some(mo) = self.vehicle.configuration_moment(&y.body)
                 {
                     out.moment = out.moment - mo;
+                }
+                let n = self.vehicle.actuator_count().min(MAX_ROTORS);
+                if seg.mode.rotor_speeds(t, &st, &mut self.speed_buf[..n]) {
+                    *speeds = Some((self.speed_buf, n));
                 }
                 Some(out)
             }
@@ -302,49 +328,68 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             thrust: out.thrust,
             moment: out.moment,
         };
+        let mut speeds = None;
         let w = if self.plan.is_empty() {
             Wrench::zero()
         } else if self.sampled {
             match &self.held {
                 Some(c) => {
                     rates = c.rates;
+                    speeds = c.speeds;
                     wrench(&c.out)
                 }
                 None => Wrench::zero(),
             }
         } else {
-            match self.command_into(t, y, &mut rates) {
+            match self.command_into(t, y, &mut rates, &mut speeds) {
                 Some(out) => wrench(&out),
-                None => {
-                    let nan = S::<B>::nan();
-                    let n = B::vec3(nan, nan, nan);
-                    return Load {
-                        force: n,
-                        moment: n,
-                        extra_rate: [nan; N],
-                    };
-                }
+                None => return nan_load(),
             }
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
-        let l = match self.wind.as_deref_mut() {
-            None => self.vehicle.total_loads(t, &y.body, &w, states),
+        let air = match self.wind.as_deref_mut() {
+            None => None,
             Some(wind) => {
-                let air = wind.velocity(t.to_f64_lossless(), f3::<B>(y.body.x));
-                let air = B::vec3(
-                    S::<B>::lit(air[0]),
-                    S::<B>::lit(air[1]),
-                    S::<B>::lit(air[2]),
-                );
-                self.vehicle
-                    .total_loads_in_wind(t, &y.body, &w, states, air)
+                let a = wind.velocity(t.to_f64_lossless(), f3::<B>(y.body.x));
+                Some(B::vec3(
+                    S::<B>::lit(a[0]),
+                    S::<B>::lit(a[1]),
+                    S::<B>::lit(a[2]),
+                ))
             }
         };
-        if nv > 0 {
-            self.vehicle
-                .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);
-        }
+        let l = if let Some((buf, n)) = speeds {
+            let air = air.unwrap_or_else(lie::ops::zero::<B>);
+            match self.vehicle.loads_at_rotor_speeds(
+                t,
+                &y.body,
+                &buf[..n],
+                states,
+                &mut rates[m..m + nv],
+                air,
+            ) {
+                Some(l) => l,
+                None => {
+                    let mode = self.plan[self.active].mode.name();
+                    self.error
+                        .get_or_insert(ControlError::RotorSpeedsUnsupported { mode });
+                    return nan_load();
+                }
+            }
+        } else {
+            let l = match air {
+                None => self.vehicle.total_loads(t, &y.body, &w, states),
+                Some(air) => self
+                    .vehicle
+                    .total_loads_in_wind(t, &y.body, &w, states, air),
+            };
+            if nv > 0 {
+                self.vehicle
+                    .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);
+            }
+            l
+        };
         Load {
             force: l.force,
             moment: l.moment,

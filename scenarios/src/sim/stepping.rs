@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
+use dynamics::multirotor::MAX_ROTORS;
 use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
@@ -766,14 +767,23 @@ fn begin<B: Backend, const N: usize>(
         sys.held = sys.command(l(0.0), y);
     }
     if sys.nv > 0 {
-        let w = sys
-            .command(l(0.0), y)
-            .map_or_else(Wrench::zero, |c| Wrench {
-                thrust: c.out.thrust,
-                moment: c.out.moment,
-            });
         let (m, nv) = (sys.m, sys.nv);
-        sys.vehicle.initial_states(&w, &mut y.extra[m..m + nv]);
+        let first = sys.command(l(0.0), y);
+        let states = &mut y.extra[m..m + nv];
+        match first {
+            Some(c) if c.speeds.is_some() => {
+                let (buf, n) = c.speeds.unwrap_or(([l(0.0); MAX_ROTORS], 0));
+                sys.vehicle
+                    .initial_states_at_rotor_speeds(&buf[..n], states);
+            }
+            c => {
+                let w = c.map_or_else(Wrench::zero, |c| Wrench {
+                    thrust: c.out.thrust,
+                    moment: c.out.moment,
+                });
+                sys.vehicle.initial_states(&w, states);
+            }
+        }
     }
     if let Some(k) = emit.sink.as_deref_mut() {
         k.begin(&out.mode_names).map_err(SimError::Output)?;

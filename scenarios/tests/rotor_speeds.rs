@@ -1,0 +1,227 @@
+//! Modes that command rotor speeds instead of a wrench
+//! (`Mode::rotor_speeds`): the same command through either path flies the
+//! same trajectory bit for bit, a recorded speed sequence replayed open
+//! loop reproduces the run it came from bit for bit, and a vehicle
+//! without rotor speeds refuses them with a typed error.
+
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
+
+use controllers::{ControlError, Mode, ModeOutput, VehicleState};
+use dynamics::{
+    DrydenSpec, DrydenWind, Multirotor, MultirotorParams, Quadrotor, RigidBodyState, Wrench,
+};
+use lie::{Backend, NalgebraF64, S, So3Mat};
+use scenarios::{Control, RunOutput, SimError, Simulation, Until};
+
+type B = NalgebraF64;
+
+/// Recorded speed commands by control instant (`t` as bits, exact).
+type Log = Arc<Mutex<BTreeMap<u64, Vec<f64>>>>;
+
+/// Any mode, its wrench turned into rotor speeds by the vehicle's own
+/// mixer (what the `multirotor` vehicle does to a commanded wrench), so
+/// the speeds path must reproduce the wrench path exactly; the speeds
+/// are logged.
+struct Speeds {
+    inner: Box<dyn Mode<B>>,
+    mixer: Multirotor<B>,
+    last: Wrench<B>,
+    log: Log,
+}
+
+impl Mode<B> for Speeds {
+    fn name(&self) -> &'static str {
+        "speeds"
+    }
+    fn integral_count(&self) -> usize {
+        self.inner.integral_count()
+    }
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        let out = self.inner.command(t, state, integrals, rates)?;
+        self.last = Wrench {
+            thrust: out.thrust,
+            moment: out.moment,
+        };
+        Ok(out)
+    }
+    fn rotor_speeds(
+        &mut self,
+        t: S<B>,
+        _state: &VehicleState<B, So3Mat<B>>,
+        speeds: &mut [S<B>],
+    ) -> bool {
+        self.mixer.speed_commands(&self.last, speeds);
+        if let Ok(mut log) = self.log.lock() {
+            log.insert(t.to_bits(), speeds.to_vec());
+        }
+        true
+    }
+}
+
+/// A recorded speed sequence held from each control instant on: a
+/// controller-free, open-loop mode.
+struct Replay {
+    speeds: Vec<(f64, Vec<f64>)>,
+}
+
+impl Mode<B> for Replay {
+    fn name(&self) -> &'static str {
+        "replay"
+    }
+    fn command(
+        &mut self,
+        _t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        _integrals: &[S<B>],
+        _rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        let z = B::vec3(0.0, 0.0, 0.0);
+        Ok(ModeOutput {
+            thrust: 0.0,
+            moment: z,
+            desired: state.r,
+            desired_omega: z,
+            psi: 0.0,
+        })
+    }
+    fn rotor_speeds(
+        &mut self,
+        t: S<B>,
+        _state: &VehicleState<B, So3Mat<B>>,
+        speeds: &mut [S<B>],
+    ) -> bool {
+        let k = self
+            .speeds
+            .partition_point(|(tk, _)| *tk <= t)
+            .saturating_sub(1);
+        speeds.copy_from_slice(&self.speeds[k].1);
+        true
+    }
+}
+
+fn crazyflie() -> Multirotor<B> {
+    Multirotor::new(MultirotorParams::crazyflie()).expect("preset")
+}
+
+/// gusty-hover's vehicle, plan (wrapped by `wrap`), turbulence and
+/// settings, RK4 at 1 ms, for 3 s, with control sampled at 100 Hz if
+/// `sampled`.
+fn fly(
+    vehicle: Box<dyn dynamics::Vehicle<B>>,
+    wrap: &dyn Fn(Box<dyn Mode<B>>) -> Box<dyn Mode<B>>,
+    sampled: bool,
+) -> Result<RunOutput, SimError> {
+    let scene = scenarios::load("gusty-hover").expect("built in");
+    let mixer = crazyflie();
+    let plan = scenarios::plan::<B>(&scene, &mixer);
+    let mut start = RigidBodyState::<B>::at_rest();
+    start.x = B::vec3(0.3, -0.2, -1.2);
+    let mut b = Simulation::<B, 16>::builder(vehicle)
+        .initial(start)
+        .dt(1e-3)
+        .duration(3.0)
+        .record_every(0.01)
+        .wind(Box::new(
+            DrydenWind::new(DrydenSpec::gusty()).expect("valid"),
+        ));
+    if sampled {
+        b = b.control(Control::Sampled { rate: 100.0 });
+    }
+    for seg in plan {
+        b = b.segment(scenarios::Segment {
+            mode: wrap(seg.mode),
+            until: Until::Never,
+        });
+    }
+    b.build()?.run(Default::default())
+}
+
+fn assert_same_flight(a: &RunOutput, b: &RunOutput) {
+    assert_eq!(a.samples.len(), b.samples.len());
+    for (x, y) in a.samples.iter().zip(&b.samples) {
+        assert_eq!(
+            (x.t, x.x, x.v, x.r, x.omega),
+            (y.t, y.x, y.v, y.r, y.omega),
+            "at t = {}",
+            x.t
+        );
+        assert_eq!(
+            x.vehicle_states, y.vehicle_states,
+            "rotor speeds at t = {}",
+            x.t
+        );
+    }
+}
+
+fn speeds_of(log: &Log) -> Box<dyn Fn(Box<dyn Mode<B>>) -> Box<dyn Mode<B>>> {
+    let log = log.clone();
+    Box::new(move |inner| {
+        Box::new(Speeds {
+            inner,
+            mixer: crazyflie(),
+            last: Wrench::zero(),
+            log: log.clone(),
+        })
+    })
+}
+
+#[test]
+fn rotor_speed_commands_fly_like_the_wrench_they_mix() {
+    let log: Log = Arc::default();
+    let wrench = fly(Box::new(crazyflie()), &|m| m, false).expect("run");
+    let speeds = fly(Box::new(crazyflie()), &speeds_of(&log), false).expect("run");
+    assert_same_flight(&wrench, &speeds);
+    // The motors lag: the rotor speeds moved, so the path was exercised.
+    let w: Vec<f64> = speeds.samples.iter().map(|s| s.vehicle_states[0]).collect();
+    let spread =
+        w.iter().cloned().fold(f64::MIN, f64::max) - w.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(spread > 1.0, "rotor 1 speed varied by {spread} rad/s");
+}
+
+#[test]
+fn a_recorded_speed_sequence_replays_open_loop() {
+    let log: Log = Arc::default();
+    let closed = fly(Box::new(crazyflie()), &speeds_of(&log), true).expect("run");
+    let recorded: Vec<(f64, Vec<f64>)> = log
+        .lock()
+        .expect("log")
+        .iter()
+        .map(|(t, s)| (f64::from_bits(*t), s.clone()))
+        .collect();
+    assert!(recorded.len() >= 300, "{} control instants", recorded.len());
+    let replay = Replay { speeds: recorded };
+    let slot = Mutex::new(Some(replay));
+    let open = fly(
+        Box::new(crazyflie()),
+        &|_| Box::new(slot.lock().expect("slot").take().expect("one segment")),
+        true,
+    )
+    .expect("run");
+    assert_same_flight(&closed, &open);
+    assert!(open.samples.iter().all(|s| s.mode == "replay"));
+}
+
+#[test]
+fn a_vehicle_without_rotor_speeds_refuses_them() {
+    let log: Log = Arc::default();
+    let quad = Quadrotor::<B>::paper();
+    let e = fly(Box::new(quad), &speeds_of(&log), false)
+        .expect_err("the paper's quadrotor has no rotor speeds");
+    let source = match &e {
+        SimError::Step { control, .. } => *control,
+        SimError::Control { source, .. } => Some(*source),
+        other => panic!("unexpected error {other}"),
+    };
+    assert_eq!(
+        source,
+        Some(ControlError::RotorSpeedsUnsupported { mode: "speeds" }),
+        "{e}"
+    );
+}
