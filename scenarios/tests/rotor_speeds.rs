@@ -160,7 +160,10 @@ fn assert_same_flight(a: &RunOutput, b: &RunOutput) {
     }
 }
 
-fn speeds_of(log: &Log) -> Box<dyn Fn(Box<dyn Mode<B>>) -> Box<dyn Mode<B>>> {
+/// Wraps a plan's mode.
+type Wrap = Box<dyn Fn(Box<dyn Mode<B>>) -> Box<dyn Mode<B>>>;
+
+fn speeds_of(log: &Log) -> Wrap {
     let log = log.clone();
     Box::new(move |inner| {
         Box::new(Speeds {
