@@ -178,7 +178,6 @@ fn fly(case: &Case) -> [f64; 5] {
     worst
 }
 
-#[test]
 fn multirotor_matches_rotorpy_open_loop() {
     let (text, source) = reference();
     let cases = parse(&text);
@@ -195,4 +194,8 @@ fn multirotor_matches_rotorpy_open_loop() {
         );
         assert!(w.iter().all(|e| *e <= 1e-8), "{}: {w:?}", case.name);
     }
+}
+
+fn main() {
+    multirotor_matches_rotorpy_open_loop();
 }

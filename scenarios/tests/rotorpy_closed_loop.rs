@@ -238,7 +238,6 @@ fn reference() -> (String, &'static str) {
     )
 }
 
-#[test]
 fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
     let (text, source) = reference();
     println!("reference: {source}");
@@ -320,4 +319,8 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
         cases += 1;
     }
     assert_eq!(cases, 2);
+}
+
+fn main() {
+    se3control_as_a_mode_matches_rotorpy_closed_loop();
 }
