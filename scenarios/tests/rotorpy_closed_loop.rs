@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use controllers::{ControlError, Mode, ModeOutput, VehicleState};
-use dynamics::{Multirotor, MultirotorParams, RigidBodyState};
+use dynamics::{Multirotor, MultirotorParams, RigidBodyState, Vehicle};
 use lie::{Backend, NalgebraF64, Rotation, S, So3Mat, ops};
 use scenarios::{Control, Simulation, Until};
 
@@ -80,7 +80,10 @@ impl Traj {
 struct Se3Control {
     mass: f64,
     inertia: A3,
-    tm_to_f: [[f64; 4]; 4],
+    /// RotorPy's `TM_to_f`: the rotor thrusts of a wrench. The same map
+    /// as this vehicle's allocation inverse once the moment is in this
+    /// frame (`P u2`; rotor `i` is the same rotor in both).
+    mixer: Multirotor<B>,
     k_eta: f64,
     traj: Traj,
     speeds: [f64; 4],
@@ -88,59 +91,16 @@ struct Se3Control {
 
 impl Se3Control {
     fn new(traj: Traj) -> Self {
-        let p = MultirotorParams::<B>::crazyflie();
-        // RotorPy's f_to_TM: rows 1, (r × e3)_x, (r × e3)_y, k·dir, its
-        // rotors at d(±½√2, ±½√2, 0) in its frame (this crate's positions
-        // with y and z negated).
-        let k = p.k_m / p.k_eta;
-        let mut f_to_tm = [[0.0; 4]; 4];
-        for (i, r) in p.rotors.iter().enumerate() {
-            let [x, y, _] = B::vec3_to_array(r.position);
-            let r_zup = [x, -y, 0.0];
-            let c = cross(r_zup, [0.0, 0.0, 1.0]);
-            f_to_tm[0][i] = 1.0;
-            f_to_tm[1][i] = c[0];
-            f_to_tm[2][i] = c[1];
-            f_to_tm[3][i] = k * r.direction;
-        }
+        let mixer = Multirotor::new(MultirotorParams::<B>::crazyflie()).expect("preset");
         Self {
-            mass: p.mass,
+            mass: mixer.params().mass,
             inertia: [1.43e-5, 1.43e-5, 2.89e-5],
-            tm_to_f: invert4(f_to_tm),
-            k_eta: p.k_eta,
+            k_eta: mixer.params().k_eta,
+            mixer,
             traj,
             speeds: [0.0; 4],
         }
     }
-}
-
-/// Gauss–Jordan with partial pivoting (the 4×4 is well conditioned).
-fn invert4(m: [[f64; 4]; 4]) -> [[f64; 4]; 4] {
-    let mut a = m;
-    let mut inv: [[f64; 4]; 4] =
-        core::array::from_fn(|i| core::array::from_fn(|j| f64::from(u8::from(i == j))));
-    for col in 0..4 {
-        let piv = (col..4)
-            .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .expect("rows");
-        a.swap(col, piv);
-        inv.swap(col, piv);
-        let d = a[col][col];
-        for k in 0..4 {
-            a[col][k] /= d;
-            inv[col][k] /= d;
-        }
-        for r in 0..4 {
-            if r != col {
-                let f = a[r][col];
-                for k in 0..4 {
-                    a[r][k] -= f * a[col][k];
-                    inv[r][k] -= f * inv[col][k];
-                }
-            }
-        }
-    }
-    inv
 }
 
 impl Mode<B> for Se3Control {
@@ -182,13 +142,20 @@ impl Mode<B> for Se3Control {
         let u2: A3 = core::array::from_fn(|i| {
             self.inertia[i] * (-310.0 * att_err[i] - 57.0 * w[i]) + gyro[i]
         });
-        let tm = [u1, u2[0], u2[1], u2[2]];
-        for (k, sp) in self.speeds.iter_mut().enumerate() {
-            let f = (0..4).map(|j| self.tm_to_f[k][j] * tm[j]).sum::<f64>() / self.k_eta;
-            *sp = f.signum() * f.abs().sqrt();
+        let m = p(u2);
+        let wrench = dynamics::Wrench {
+            thrust: u1,
+            moment: B::vec3(m[0], m[1], m[2]),
+        };
+        let mut f = [0.0; 4];
+        self.mixer
+            .actuators_from_wrench(&wrench, &mut f)
+            .expect("four rotors");
+        for (sp, f) in self.speeds.iter_mut().zip(f) {
+            let x = f / self.k_eta;
+            *sp = x.signum() * x.abs().sqrt();
         }
         let desired = So3Mat::<B>::from_matrix_unchecked(ops::from_elems::<B>(pm(r_des)));
-        let m = p(u2);
         Ok(ModeOutput {
             thrust: u1,
             moment: B::vec3(m[0], m[1], m[2]),
