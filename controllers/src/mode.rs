@@ -238,8 +238,16 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     fn desired_position(&self, _t: f64) -> Option<[f64; 3]> {
         None
     }
+    /// Whether this mode commands rotor speeds ([`Mode::rotor_speeds`]);
+    /// asked once when the mode becomes active, so that a mode that
+    /// commands a wrench (the default, `false`) costs nothing per
+    /// evaluation.
+    fn commands_rotor_speeds(&self) -> bool {
+        false
+    }
     /// Rotor speeds (rad/s) to command *instead of* the wrench of
-    /// [`Mode::command`], written into `speeds` (one per rotor): for a law
+    /// [`Mode::command`], written into `speeds` (one per rotor), for a mode
+    /// whose [`Mode::commands_rotor_speeds`] is `true`: for a law
     /// of another family that outputs rotor speeds (RotorPy's
     /// `SE3Control`), or a recorded sequence replayed open loop. Called
     /// after `command` at the same `(t, state)`; returns whether it wrote
@@ -284,6 +292,9 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         (**self).desired_position(t)
+    }
+    fn commands_rotor_speeds(&self) -> bool {
+        (**self).commands_rotor_speeds()
     }
     fn rotor_speeds(&mut self, t: S<B>, state: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
         (**self).rotor_speeds(t, state, speeds)

@@ -51,6 +51,9 @@ impl Mode<B> for Speeds {
         };
         Ok(out)
     }
+    fn commands_rotor_speeds(&self) -> bool {
+        true
+    }
     fn rotor_speeds(
         &mut self,
         t: S<B>,
@@ -90,6 +93,9 @@ impl Mode<B> for Replay {
             desired_omega: z,
             psi: 0.0,
         })
+    }
+    fn commands_rotor_speeds(&self) -> bool {
+        true
     }
     fn rotor_speeds(
         &mut self,

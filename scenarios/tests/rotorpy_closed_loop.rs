@@ -164,6 +164,9 @@ impl Mode<B> for Se3Control {
             psi: state.r.psi(desired),
         })
     }
+    fn commands_rotor_speeds(&self) -> bool {
+        true
+    }
     fn rotor_speeds(
         &mut self,
         _t: S<B>,

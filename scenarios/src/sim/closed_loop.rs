@@ -41,6 +41,9 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     /// Where a mode writes rotor-speed commands (kept, not zeroed per
     /// evaluation: only a mode that writes them is read from it).
     pub speed_buf: [S<B>; MAX_ROTORS],
+    /// The active mode commands rotor speeds (asked when it becomes
+    /// active, so a wrench mode pays nothing per evaluation).
+    pub speeds_mode: bool,
 }
 
 /// What a [`ClosedLoop`] holds besides its borrows: kept between two calls
@@ -86,6 +89,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 field: "vehicle",
                 message: "its inertia is singular".into(),
             })?;
+        let speeds_mode = plan.first().is_some_and(|s| s.mode.commands_rotor_speeds());
         Ok(Self {
             vehicle,
             wind,
@@ -100,6 +104,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             evaluations: 0,
             error: None,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
+            speeds_mode,
         })
     }
 
@@ -124,6 +129,9 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         plan: &'s mut [Segment<'a, B>],
         p: &Parked<B, N>,
     ) -> Self {
+        let speeds_mode = plan
+            .get(p.active)
+            .is_some_and(|s| s.mode.commands_rotor_speeds());
         Self {
             vehicle,
             wind,
@@ -138,6 +146,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             evaluations: p.evaluations,
             error: None,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
+            speeds_mode,
         }
     }
 
@@ -185,9 +194,11 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 {
                     out.moment = out.moment - mo;
                 }
-                let n = self.vehicle.actuator_count().min(MAX_ROTORS);
-                if seg.mode.rotor_speeds(t, &st, &mut self.speed_buf[..n]) {
-                    *speeds = Some((self.speed_buf, n));
+                if self.speeds_mode {
+                    let n = self.vehicle.actuator_count().min(MAX_ROTORS);
+                    if seg.mode.rotor_speeds(t, &st, &mut self.speed_buf[..n]) {
+                        *speeds = Some((self.speed_buf, n));
+                    }
                 }
                 Some(out)
             }
@@ -281,6 +292,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         }
         let from = self.active;
         self.active += 1;
+        self.speeds_mode = self.plan[self.active].mode.commands_rotor_speeds();
         let m = self.m;
         let st = VehicleState {
             x: y.body.x,
