@@ -161,10 +161,16 @@ pub struct DrydenWind {
     grid: f64,
     /// Unit vectors of `u`, `v`, `w` in the inertial frame.
     axes: [[f64; 3]; 3],
-    /// Filter states `[x_u, x_v1, x_v2, x_w1, x_w2]` at each grid point so
-    /// far.
+    /// Filter states `[x_u, x_v1, x_v2, x_w1, x_w2]` at grid points
+    /// `first, first + 1, …`: a window behind the latest time asked, so
+    /// that an hour-long run keeps seconds of them, not megabytes.
     states: Vec<[f64; 5]>,
+    first: usize,
 }
+
+/// Grid points of filter state kept behind the latest time asked (10 s at
+/// the default 5 ms grid).
+const WINDOW: usize = 2048;
 
 /// Dryden's parameters; see [`DrydenWind`].
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -258,6 +264,7 @@ impl DrydenWind {
             grid: p.grid,
             axes: [u, v, [0.0, 0.0, 1.0]],
             states: vec![[0.0; 5]],
+            first: 0,
         })
     }
 
@@ -314,13 +321,24 @@ impl Wind for DrydenWind {
             return [f64::NAN; 3];
         }
         let k = k as usize;
-        while self.states.len() <= k {
-            let j = self.states.len() - 1;
-            let next = self.advance(self.states[j], self.noise(j as u64), self.grid);
+        if k < self.first {
+            // Further back than the window (integrators look back at most
+            // one step): start the filters again from t = 0.
+            self.states = vec![[0.0; 5]];
+            self.first = 0;
+        }
+        while self.first + self.states.len() <= k {
+            let j = self.first + self.states.len() - 1;
+            let last = self.states[self.states.len() - 1];
+            let next = self.advance(last, self.noise(j as u64), self.grid);
             self.states.push(next);
+            if self.states.len() > 2 * WINDOW {
+                self.states.drain(..WINDOW);
+                self.first += WINDOW;
+            }
         }
         let x = self.advance(
-            self.states[k],
+            self.states[k - self.first],
             self.noise(k as u64),
             t - k as f64 * self.grid,
         );
@@ -403,6 +421,10 @@ mod tests {
         }
         let mut c = DrydenWind::new(DrydenSpec { seed: 2, ..spec }).expect("valid");
         assert_ne!(c.velocity(3.21, [0.0; 3]), fwd[0]);
+        // Far past the kept window and back: the same values.
+        let early = a.velocity(1.0, [0.0; 3]);
+        let _ = a.velocity(100.0, [0.0; 3]);
+        assert_eq!(a.velocity(1.0, [0.0; 3]), early);
         // Continuous across a grid point.
         let g = spec.grid;
         let (l, r) = (
