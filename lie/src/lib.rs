@@ -5,7 +5,11 @@
 //! stands on: hat/vee, exp/log, composition, inverse, action, adjoint, the
 //! left/right Jacobians and their inverses, projection onto the group, and
 //! the attitude error function `Ψ` with the error vectors `e_R`, `e_Ω` of
-//! Goodarzi, Lee & Lee (Proposition 1). It deliberately owns no dynamics,
+//! Goodarzi, Lee & Lee (Proposition 1). One trait, [`LieGroup`], gives
+//! SO(3) ([`So3Mat`], [`So3Quat`]), SE(3) ([`Se3`]) and the rigid-body
+//! state SO(3) × ℝ³ × ℝ³ × ℝ³ ([`RigidState`]) the operations estimation
+//! code is written in: ⊕/⊖ on either side, `between`, and the Jacobians of
+//! each with respect to each argument. It deliberately owns no dynamics,
 //! no integrators and no allocation: it is `#![no_std]` when the `std`
 //! feature is off (the `libm` feature then supplies the maths functions).
 //!
