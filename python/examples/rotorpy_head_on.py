@@ -11,12 +11,15 @@ Model differences, and how they are handled:
 - Frames: RotorPy is z-up with thrust along +b3; this package e3-down with
   thrust along -b3. Everything is compared in RotorPy's frame (T = diag(1,-1,-1)).
 - Motors: RotorPy integrates rotor speeds with a first-order lag (the
-  crazyflie's tau_m = 72 ms) and clips them; this package applies the
-  commanded wrench at once. The comparison of trajectories sets
-  tau_m = 1 ms in RotorPy, where the two models agree to the lag.
+  crazyflie's tau_m = 72 ms) and clips them; the paper's `quadrotor` kind
+  flown here applies the commanded wrench at once. The comparison of
+  trajectories sets tau_m = 1 ms in RotorPy, where the two models agree
+  to the lag. (The `multirotor` kind has RotorPy's lag and aerodynamics
+  and matches it to 1e-10 m; see the README's "Wind, drag and motors".)
 - Control timing: RotorPy holds each command for one step of its 100 Hz
   loop; the scene here samples its control at 100 Hz too (zero-order hold).
-- Aerodynamics off in RotorPy (aero=False): this package has no drag model.
+- Aerodynamics off in RotorPy (aero=False): the `quadrotor` kind has no
+  drag model.
 - Controllers: SE3Control is Lee's geometric law without the feedforward
   of Ω_c, Ω̇_c (it takes Ω_d = (0, 0, yaw_dot)) and without integral
   terms; the paper's law computes Ω_c, Ω̇_c from jerk and snap exactly.
