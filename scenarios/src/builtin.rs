@@ -262,8 +262,10 @@ fn crazyflie(name: &str, description: &str, duration: f64) -> Scene {
     s.gains.k_v = 4.0 * m;
     s.gains.k_r = 310.0 * j[0];
     s.gains.k_omega = 57.0 * j[0];
-    s.gains.k_i = 0.1 * s.gains.k_x;
-    s.gains.k_att_i = 0.1 * s.gains.k_r;
+    // 0.1 k_x and 0.1 k_R, written out so that a scene file can state
+    // them exactly.
+    s.gains.k_i = 0.0195;
+    s.gains.k_att_i = 0.0004433;
     s.integrator.dt = 1e-3;
     s.record.sample = 0.01;
     s

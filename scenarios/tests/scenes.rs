@@ -23,6 +23,12 @@ fn the_shipped_scene_file_is_the_builtin_flip() {
 }
 
 #[test]
+fn the_shipped_wind_scene_file_is_the_builtin_gusty_hover() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/gusty-hover.toml");
+    assert_eq!(load(path).unwrap(), builtin::gusty_hover());
+}
+
+#[test]
 fn unknown_key_names_key_and_position() {
     let text = "name = \"x\"\nduration = 1.0\n[integrator]\nkind = \"rk4\"\nstep = 0.01\n";
     let e = Scene::from_toml(text, "bad.toml").unwrap_err();
