@@ -439,7 +439,17 @@ pub(crate) fn multirotor_params<B: Backend>(scene: &Scene) -> MultirotorParams<B
     p.mass = l(ve.mass);
     p.inertia = ops::diag::<B>(l(ve.inertia[0]), l(ve.inertia[1]), l(ve.inertia[2]));
     p.gravity = l(ve.gravity);
-    p.rotors = MultirotorParams::<B>::x_layout(l(ve.arm));
+    p.rotors = match (&spec.rotor_positions, &spec.rotor_directions) {
+        (Some(pos), Some(dir)) => pos
+            .iter()
+            .zip(dir)
+            .map(|(r, d)| dynamics::Rotor {
+                position: v::<B>(*r),
+                direction: l(*d),
+            })
+            .collect(),
+        _ => MultirotorParams::<B>::x_layout(l(ve.arm)),
+    };
     let set = |field: &mut S<B>, v: Option<f64>| {
         if let Some(v) = v {
             *field = l(v);

@@ -233,6 +233,15 @@ pub struct MultirotorSpec {
     /// Aerodynamic terms on (RotorPy's `aero`; default true).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aero: Option<bool>,
+    /// Hub positions, body frame of this project (e3 down; RotorPy's
+    /// `(x, y, z)` is `(x, −y, −z)` here), m; default: four rotors in the X
+    /// layout at the vehicle's `arm`. Needs `rotor_directions`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_positions: Option<Vec<[f64; 3]>>,
+    /// Spin directions, ±1 each, as RotorPy's `rotor_directions` (its `+1`
+    /// rotor's reaction moment is along its +z, −e3 here).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_directions: Option<Vec<f64>>,
 }
 
 /// A RotorPy parameter set.
@@ -868,6 +877,27 @@ impl Scene {
                 ));
             }
             (_, None) => return Ok(()),
+        }
+        if let Some(spec) = &ve.multirotor {
+            match (&spec.rotor_positions, &spec.rotor_directions) {
+                (Some(p), Some(d)) if p.len() != d.len() => {
+                    return Err((
+                        "vehicle.multirotor.rotor_directions",
+                        format!(
+                            "`rotor_directions` has {} entries for {} `rotor_positions`; give one per rotor",
+                            d.len(),
+                            p.len()
+                        ),
+                    ));
+                }
+                (Some(_), None) | (None, Some(_)) => {
+                    return Err((
+                        "vehicle.multirotor.rotor_positions",
+                        "`rotor_positions` and `rotor_directions` go together (the X layout is the default for neither)".into(),
+                    ));
+                }
+                _ => {}
+            }
         }
         let p = crate::from_scene::multirotor_params::<lie::NalgebraF64>(self);
         let lift = p.rotors.len() as f64 * p.k_eta * p.rotor_speed_max * p.rotor_speed_max;

@@ -29,6 +29,40 @@ fn the_shipped_wind_scene_file_is_the_builtin_gusty_hover() {
 }
 
 #[test]
+fn a_multirotor_scene_takes_any_rotor_layout() {
+    let six: Vec<String> = (0..6)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::PI / 3.0;
+            format!("[{}, {}, 0.0]", 0.043 * a.cos(), 0.043 * a.sin())
+        })
+        .collect();
+    let layout = format!(
+        "[vehicle.multirotor]\npreset = \"crazyflie\"\nrotor_positions = [{}]\n\
+         rotor_directions = [1.0, -1.0, 1.0, -1.0, 1.0, -1.0]\n",
+        six.join(", ")
+    );
+    let text = builtin::gusty_hover()
+        .to_toml()
+        .replace("[vehicle.multirotor]\npreset = \"crazyflie\"\n", &layout)
+        .replace("duration = 20.0", "duration = 5.0");
+    let scene = Scene::from_toml(&text, "six.toml").unwrap();
+    let out = scenarios::run(&scene, scenarios::RunOptions::default()).unwrap();
+    // Six rotor speeds, and the point held in the gusts.
+    assert_eq!(out.last.vehicle_states.len(), 6);
+    assert!(out.last.ex < 0.2, "{}", out.last.ex);
+    let bad = text.replace(
+        "rotor_directions = [1.0, -1.0, 1.0, -1.0, 1.0, -1.0]",
+        "rotor_directions = [1.0, -1.0]",
+    );
+    let e = Scene::from_toml(&bad, "bad.toml").unwrap_err();
+    assert_eq!(
+        e.key.as_deref(),
+        Some("vehicle.multirotor.rotor_directions"),
+        "{e}"
+    );
+}
+
+#[test]
 fn unknown_key_names_key_and_position() {
     let text = "name = \"x\"\nduration = 1.0\n[integrator]\nkind = \"rk4\"\nstep = 0.01\n";
     let e = Scene::from_toml(text, "bad.toml").unwrap_err();
