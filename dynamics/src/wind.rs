@@ -74,8 +74,11 @@ impl Wind for SinusoidWind {
     }
 }
 
-/// Piecewise-constant wind: `velocities[k]` from `times[k]` on (and
-/// `velocities[0]` before `times[0]`), uniform in space.
+/// Piecewise-constant wind: `velocities[k]` after `times[k]` (and
+/// `velocities[0]` before `times[0]`), uniform in space. At a jump itself
+/// the value before it (left-continuous): a step that ends on the jump
+/// reads the old side throughout, and a simulation that lands there reads
+/// the new side just after it for the steps that follow.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LadderWind {
     times: Vec<f64>,
@@ -118,7 +121,7 @@ impl LadderWind {
 
 impl Wind for LadderWind {
     fn velocity(&mut self, t: f64, _x: [f64; 3]) -> [f64; 3] {
-        let k = self.times.partition_point(|&tk| tk <= t);
+        let k = self.times.partition_point(|&tk| tk < t);
         self.velocities[k.saturating_sub(1)]
     }
     fn jumps(&self, t_end: f64) -> Vec<f64> {
@@ -457,7 +460,8 @@ mod tests {
         let mut l =
             LadderWind::new(vec![1.0, 2.0], vec![[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]).unwrap();
         assert_eq!(l.velocity(0.5, [0.0; 3])[0], 1.0);
-        assert_eq!(l.velocity(2.0, [0.0; 3])[0], 2.0);
+        assert_eq!(l.velocity(2.0, [0.0; 3])[0], 1.0);
+        assert_eq!(l.velocity(2.0f64.next_up(), [0.0; 3])[0], 2.0);
         assert_eq!(l.jumps(10.0), vec![1.0, 2.0]);
     }
 }

@@ -44,6 +44,10 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     /// The active mode commands rotor speeds (asked when it becomes
     /// active, so a wrench mode pays nothing per evaluation).
     pub speeds_mode: bool,
+    /// The last wind jump the run has arrived at (−∞ before the first):
+    /// from there on the wind is read just after it, on its new side,
+    /// while the step that ended there read it on the old side.
+    pub wind_from: f64,
 }
 
 /// What a [`ClosedLoop`] holds besides its borrows: kept between two calls
@@ -59,6 +63,7 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     compensate: bool,
     inertia_inv: lie::M3<B>,
     pub evaluations: u64,
+    wind_from: f64,
 }
 
 /// A load of NaNs: what a failed command hands the integrator, which then
@@ -105,6 +110,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             error: None,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
             speeds_mode,
+            wind_from: f64::NEG_INFINITY,
         })
     }
 
@@ -119,6 +125,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             compensate: self.compensate,
             inertia_inv: self.inertia_inv,
             evaluations: self.evaluations,
+            wind_from: self.wind_from,
         }
     }
 
@@ -147,13 +154,30 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             error: None,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
             speeds_mode,
+            wind_from: p.wind_from,
+        }
+    }
+
+    /// The time the wind is read at for an evaluation at `t`: just after
+    /// the last jump arrived at when `t` is on it (within the scalar's
+    /// rounding of it), so that the steps from a jump on see its new side.
+    fn wind_time(&self, t: f64) -> f64 {
+        if self.wind_from == f64::NEG_INFINITY {
+            return t;
+        }
+        let tol = 8.0 * S::<B>::epsilon().to_f64_lossless() * self.wind_from.abs();
+        if t <= self.wind_from + tol {
+            self.wind_from.next_up()
+        } else {
+            t
         }
     }
 
     /// The wind at `(t, y)` (zero without one).
     pub fn wind_at(&mut self, t: f64, y: &State<B, N>) -> [f64; 3] {
+        let tw = self.wind_time(t);
         match self.wind.as_deref_mut() {
-            Some(w) => w.velocity(t, f3::<B>(y.body.x)),
+            Some(w) => w.velocity(tw, f3::<B>(y.body.x)),
             None => [0.0; 3],
         }
     }
@@ -360,10 +384,15 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
+        let tw = if self.wind.is_some() {
+            self.wind_time(t.to_f64_lossless())
+        } else {
+            0.0
+        };
         let air = match self.wind.as_deref_mut() {
             None => None,
             Some(wind) => {
-                let a = wind.velocity(t.to_f64_lossless(), f3::<B>(y.body.x));
+                let a = wind.velocity(tw, f3::<B>(y.body.x));
                 Some(B::vec3(
                     S::<B>::lit(a[0]),
                     S::<B>::lit(a[1]),

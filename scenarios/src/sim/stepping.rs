@@ -546,7 +546,13 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         let r = &mut *self.r;
         let t = r.t_next;
         r.t = t;
-        let (switch_due, control_due) = r.grid.arrive(t);
+        let (switch_due, control_due, jump) = r.grid.arrive(t);
+        if jump {
+            // The wind changes here: read on its new side from now on, and
+            // no load of the old side carried into the next step.
+            self.sys.wind_from = t;
+            self.stepper.reset();
+        }
         let mut cx = Cx::new(self.sys, self.emit, &mut r.out, r.locate_events);
         if let Some(b) = cx.at_checkpoint(self.stepper, t, self.y, switch_due, control_due)? {
             r.bps = b;
@@ -720,11 +726,13 @@ impl Grid {
         t_next
     }
 
-    /// Arrived at checkpoint `t`: whether a time switch is due there, and
-    /// whether it is a control instant.
-    fn arrive(&mut self, t: f64) -> (bool, bool) {
+    /// Arrived at checkpoint `t`: whether a time switch is due there,
+    /// whether it is a control instant, and whether the wind jumps there.
+    fn arrive(&mut self, t: f64) -> (bool, bool, bool) {
+        let mut jump = false;
         while self.jumps.get(self.k_jump).is_some_and(|&tj| tj <= t) {
             self.k_jump += 1;
+            jump = true;
         }
         let switch_due = self.switch_times.get(self.k_sw).is_some_and(|&ts| ts <= t);
         if switch_due {
@@ -734,7 +742,7 @@ impl Grid {
         if self.ctrl > 0.0 && on(self.k_ctrl + 1) {
             self.k_ctrl += 1;
         }
-        (switch_due, self.ctrl > 0.0 && on(self.k_ctrl))
+        (switch_due, self.ctrl > 0.0 && on(self.k_ctrl), jump)
     }
 }
 
