@@ -67,7 +67,8 @@ fn chart(path: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<()
     figure::finish(plot, path, shown)
 }
 
-/// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg` into `dir`.
+/// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg` and, for a
+/// run in wind, `wind.svg` into `dir`.
 pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("--plot {}: {e}", dir.display()))?;
     let s = &out.samples;
@@ -151,6 +152,26 @@ pub fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf
             &p,
             &format!("{name}: rotor thrusts (allocation inverse)"),
             "rotor thrust [N]",
+            &series,
+        )?;
+        written.push(p);
+    }
+    if s.iter().any(|x| x.wind != [0.0; 3]) {
+        let series: Vec<Series> = (0..3)
+            .map(|k| {
+                (
+                    format!("w{}", k + 1),
+                    s.iter().map(|x| (x.t, x.wind[k])).collect(),
+                    COLORS[k],
+                    0,
+                )
+            })
+            .collect();
+        let p = dir.join("wind.svg");
+        chart(
+            &p,
+            &format!("{name}: wind at the vehicle (inertial, e3 down)"),
+            "w [m/s]",
             &series,
         )?;
         written.push(p);
