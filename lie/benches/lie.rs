@@ -516,15 +516,20 @@ fn se3_natives(c: &mut Criterion) {
         glam::DVec3::new(0.3, -0.7, 0.8),
         glam::DVec3::new(0.3, 0.6, 0.9)
     );
+    // `Affine3A` is `Mat3A` + `Vec3A`: the SIMD backend's layout, so it is
+    // beside `GlamF32A`; glam has no f32 affine type on `Mat3`/`Vec3`.
     bench_se3!(
         c,
-        lie::GlamF32,
+        lie::GlamF32A,
         So3Mat,
         glam::Affine3A,
-        |x| glam::Affine3A::from_mat3_translation(x.rotation.matrix(), x.translation),
-        |n: glam::Affine3A, p: glam::Vec3| n.transform_point3(p),
-        glam::Vec3::new(0.3, -0.7, 0.8),
-        glam::Vec3::new(0.3, 0.6, 0.9)
+        |x| glam::Affine3A {
+            matrix3: x.rotation.matrix(),
+            translation: x.translation,
+        },
+        |n: glam::Affine3A, p: glam::Vec3A| n.transform_point3a(p),
+        glam::Vec3A::new(0.3, -0.7, 0.8),
+        glam::Vec3A::new(0.3, 0.6, 0.9)
     );
 }
 
@@ -611,6 +616,20 @@ fn natives(c: &mut Criterion) {
         |q: glam::Quat| q.inverse(),
         g32,
         h32
+    );    let (a32, b32) = (
+        glam::Vec3A::new(0.3, -0.7, 0.8),
+        glam::Vec3A::new(0.3, 0.6, 0.9),
+    );
+    bench_native!(
+        c,
+        lie::GlamF32A,
+        So3Quat,
+        glam::Quat,
+        |v: glam::Vec3A| glam::Quat::from_scaled_axis(v.into()),
+        |q: glam::Quat| glam::Vec3A::from(q.to_scaled_axis()),
+        |q: glam::Quat| q.inverse(),
+        a32,
+        b32
     );
 }
 

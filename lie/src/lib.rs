@@ -16,7 +16,8 @@
 //! # How the abstraction works
 //!
 //! A [`Backend`] is a zero-sized marker for a (library, scalar) pair:
-//! [`NalgebraF32`], [`NalgebraF64`], [`GlamF32`], [`GlamF64`]. Its associated
+//! [`NalgebraF32`], [`NalgebraF64`], [`GlamF32`], [`GlamF64`] (and
+//! [`GlamF32A`], glam's SIMD-aligned f32 types). Its associated
 //! types are the library's own `Vec3`/`Mat3`/`Quat`, and the trait has
 //! thirteen primitive functions (dot, cross, columns in and out, transpose,
 //! quaternion product and rotation, …), each one line of the library's own
@@ -95,7 +96,7 @@ pub mod so3;
 
 pub use backend::{Backend, M3, S, V3, ops};
 #[cfg(feature = "glam")]
-pub use backends::glam::{GlamF32, GlamF64};
+pub use backends::glam::{GlamF32, GlamF32A, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
 pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
@@ -174,7 +175,7 @@ pub mod prelude {
         So3Quat, Twist, V3, ops,
     };
     #[cfg(feature = "glam")]
-    pub use crate::{GlamF32, GlamF64};
+    pub use crate::{GlamF32, GlamF32A, GlamF64};
     #[cfg(feature = "nalgebra")]
     pub use crate::{NalgebraF32, NalgebraF64};
     /// The scalar's floating-point methods (`sqrt`, `atan2`, `epsilon`, …).

@@ -7,7 +7,9 @@
 mod common;
 
 use common::*;
-use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Rotation, So3Mat, So3Quat};
+use lie::{
+    Backend, GlamF32, GlamF32A, GlamF64, NalgebraF32, NalgebraF64, Rotation, So3Mat, So3Quat,
+};
 
 fn check<B: Backend, R: Rotation<B>>(label: &str) {
     let mut rng = Rng::new(7);
@@ -42,6 +44,8 @@ fn helpers_agree_with_the_definitions() {
     check::<NalgebraF32, So3Quat<NalgebraF32>>("nalgebra-f32 quaternion");
     check::<GlamF32, So3Mat<GlamF32>>("glam-f32 matrix");
     check::<GlamF32, So3Quat<GlamF32>>("glam-f32 quaternion");
+    check::<GlamF32A, So3Mat<GlamF32A>>("glam-f32a matrix");
+    check::<GlamF32A, So3Quat<GlamF32A>>("glam-f32a quaternion");
 }
 
 fn diagonal_case<B: Backend>(label: &str) {
@@ -75,4 +79,5 @@ fn diagonal_matrices_are_recognised_and_multiply_exactly() {
     diagonal_case::<GlamF64>("glam-f64");
     diagonal_case::<NalgebraF32>("nalgebra-f32");
     diagonal_case::<GlamF32>("glam-f32");
+    diagonal_case::<GlamF32A>("glam-f32a");
 }

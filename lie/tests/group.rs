@@ -11,8 +11,8 @@
 use std::f64::consts::PI;
 
 use lie::{
-    Backend, GlamF32, GlamF64, LieGroup, NalgebraF32, NalgebraF64, Real, RigidState, S, Se3,
-    So3Mat, So3Quat,
+    Backend, GlamF32, GlamF32A, GlamF64, LieGroup, NalgebraF32, NalgebraF64, Real, RigidState, S,
+    Se3, So3Mat, So3Quat,
 };
 
 /// A small deterministic generator (no dependency): uniform in [−1, 1).
@@ -385,6 +385,8 @@ fn group_identities_to_rounding() {
         ),
         identities::<GlamF32, Se3<GlamF32, So3Mat<GlamF32>>>("glam f32 Se3<So3Mat>"),
         identities::<GlamF32, RigidState<GlamF32, So3Mat<GlamF32>>>("glam f32 Rigid<So3Mat>"),
+        identities::<GlamF32A, Se3<GlamF32A, So3Mat<GlamF32A>>>("glam f32a Se3<So3Mat>"),
+        identities::<GlamF32A, So3Quat<GlamF32A>>("glam f32a So3Quat"),
     ] {
         assert!(w.iter().all(|e| *e < f32_tol), "{w:?}");
     }
@@ -444,6 +446,12 @@ fn f32_agrees_with_f64_away_from_singular_points() {
             Se3<GlamF32, So3Quat<GlamF32>>,
             GlamF64,
             Se3<GlamF64, So3Quat<GlamF64>>,
+        >(),
+        f32_vs_f64::<
+            GlamF32A,
+            Se3<GlamF32A, So3Mat<GlamF32A>>,
+            GlamF64,
+            Se3<GlamF64, So3Mat<GlamF64>>,
         >(),
         f32_vs_f64::<
             NalgebraF32,

@@ -166,6 +166,8 @@ se3_suite! {
     glam_f32_quaternion: lie::GlamF32, So3Quat;
     glam_f64_matrix: lie::GlamF64, So3Mat;
     glam_f64_quaternion: lie::GlamF64, So3Quat;
+    glam_f32a_matrix: lie::GlamF32A, So3Mat;
+    glam_f32a_quaternion: lie::GlamF32A, So3Quat;
 }
 
 /// The same inputs through an f32 pair and its f64 twin; the worst
@@ -233,4 +235,8 @@ fn f32_vs_f64_glam_matrix() {
 #[test]
 fn f32_vs_f64_glam_quaternion() {
     f32_against_f64::<lie::GlamF32, lie::GlamF64, lie::So3Quat<_>, lie::So3Quat<_>>();
+}
+#[test]
+fn f32_vs_f64_glam_simd_matrix() {
+    f32_against_f64::<lie::GlamF32A, lie::GlamF64, lie::So3Mat<_>, lie::So3Mat<_>>();
 }

@@ -538,4 +538,6 @@ so3_suite! {
     glam_f32_quaternion: lie::GlamF32, So3Quat;
     glam_f64_matrix: lie::GlamF64, So3Mat;
     glam_f64_quaternion: lie::GlamF64, So3Quat;
+    glam_f32a_matrix: lie::GlamF32A, So3Mat;
+    glam_f32a_quaternion: lie::GlamF32A, So3Quat;
 }

@@ -1,6 +1,9 @@
-//! The glam backend: `Vec3`/`Mat3`/`Quat` for f32, `DVec3`/`DMat3`/`DQuat` for
-//! f64. The f32 types are the plain (not 16-byte aligned `Vec3A`) ones that
-//! users of glam pass around.
+//! The glam backends: `Vec3`/`Mat3`/`Quat` for f32, `DVec3`/`DMat3`/`DQuat`
+//! for f64, and `Vec3A`/`Mat3A`/`Quat` for f32 in SIMD registers
+//! ([`GlamF32A`]). The plain f32 types are the ones most users of glam pass
+//! around; the 16-byte aligned ones are what glam's own `Affine3A` is built
+//! on, four lanes wide with the fourth unused, and faster for matrix
+//! products and actions.
 
 use crate::Backend;
 
@@ -80,4 +83,9 @@ glam_backend!(
 glam_backend!(
     /// glam with `f64`: `glam::DVec3`, `glam::DMat3`, `glam::DQuat`.
     GlamF64, f64, glam::DVec3, glam::DMat3, glam::DQuat, "glam-f64"
+);
+glam_backend!(
+    /// glam with `f32` in SIMD registers: `glam::Vec3A`, `glam::Mat3A`,
+    /// `glam::Quat` (16 bytes a vector, the layout of glam's `Affine3A`).
+    GlamF32A, f32, glam::Vec3A, glam::Mat3A, glam::Quat, "glam-f32a"
 );
