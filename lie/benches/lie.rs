@@ -616,7 +616,8 @@ fn natives(c: &mut Criterion) {
         |q: glam::Quat| q.inverse(),
         g32,
         h32
-    );    let (a32, b32) = (
+    );
+    let (a32, b32) = (
         glam::Vec3A::new(0.3, -0.7, 0.8),
         glam::Vec3A::new(0.3, 0.6, 0.9),
     );
