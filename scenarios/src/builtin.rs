@@ -23,6 +23,18 @@ fn base(name: &str, description: &str, duration: f64) -> Scene {
     }
 }
 
+/// One position-mode segment to the end of the run, hover thrust.
+fn position_plan(reference: PositionRef) -> Vec<SegmentSpec> {
+    vec![SegmentSpec {
+        mode: ModeKind::Position,
+        until: None,
+        until_psi: None,
+        attitude: None,
+        position: Some(reference),
+        thrust: ThrustSpec::Hover,
+    }]
+}
+
 fn hold(x: [f64; 3], b1d: [f64; 3]) -> PositionRef {
     PositionRef::Hold { x, b1d }
 }
@@ -121,14 +133,7 @@ pub fn hover_disturbed() -> Scene {
         150.0,
     );
     s.disturbance = Some(DisturbanceSpec::paper());
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
-        thrust: ThrustSpec::Hover,
-    }];
+    s.plan = position_plan(hold([0.0; 3], [1.0, 0.0, 0.0]));
     s.integrator.dt = 2e-3;
     s.record.sample = 0.05;
     s
@@ -203,19 +208,12 @@ pub fn figure_eight() -> Scene {
     );
     s.disturbance = Some(DisturbanceSpec::paper());
     s.initial.x = [0.0, 0.0, -1.0];
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(PositionRef::FigureEight {
-            center: [0.0, 0.0, -1.0],
-            a: 1.0,
-            b: 0.5,
-            omega: 1.0,
-        }),
-        thrust: ThrustSpec::Hover,
-    }];
+    s.plan = position_plan(PositionRef::FigureEight {
+        center: [0.0, 0.0, -1.0],
+        a: 1.0,
+        b: 0.5,
+        omega: 1.0,
+    });
     s.record.sample = 0.01;
     s
 }
@@ -289,14 +287,7 @@ pub fn gusty_hover() -> Scene {
         grid: 0.005,
     });
     s.initial.x = [0.0, 0.0, -1.0];
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(hold([0.0, 0.0, -1.0], [1.0, 0.0, 0.0])),
-        thrust: ThrustSpec::Hover,
-    }];
+    s.plan = position_plan(hold([0.0, 0.0, -1.0], [1.0, 0.0, 0.0]));
     s
 }
 
@@ -318,19 +309,12 @@ pub fn figure_eight_wind() -> Scene {
         grid: 0.005,
     });
     s.initial.x = [0.0, 0.0, -1.0];
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(PositionRef::FigureEight {
-            center: [0.0, 0.0, -1.0],
-            a: 1.0,
-            b: 0.5,
-            omega: 1.0,
-        }),
-        thrust: ThrustSpec::Hover,
-    }];
+    s.plan = position_plan(PositionRef::FigureEight {
+        center: [0.0, 0.0, -1.0],
+        a: 1.0,
+        b: 0.5,
+        omega: 1.0,
+    });
     s
 }
 
