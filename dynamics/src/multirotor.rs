@@ -257,12 +257,28 @@ impl<B: Backend> Multirotor<B> {
     /// rotor thrusts, then [`Multirotor::speed_for_thrust`] of each (what
     /// RotorPy's `cmd_ctbm` abstraction does), written into `out`.
     pub fn speed_commands(&self, w: &Wrench<B>, out: &mut [S<B>]) {
+        self.thrusts(w, out);
+        for o in out.iter_mut() {
+            *o = self.speed_for_thrust(*o);
+        }
+    }
+
+    /// The minimum-norm rotor thrusts of `w` into `out` (one per rotor).
+    fn thrusts(&self, w: &Wrench<B>, out: &mut [S<B>]) {
         let [m1, m2, m3] = B::vec3_to_array(w.moment);
         let x = [w.thrust, m1, m2, m3];
         for (o, row) in out.iter_mut().zip(&self.alloc_inv) {
-            let f = (0..4).fold(S::<B>::zero(), |s, k| s + row[k] * x[k]);
-            *o = self.speed_for_thrust(f);
+            *o = (0..4).fold(S::<B>::zero(), |s, k| s + row[k] * x[k]);
         }
+    }
+
+    /// The wrench of the rotors at `speeds` without aerodynamics.
+    fn wrench_at_speeds(&self, speeds: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
+        let mut f = [S::<B>::zero(); MAX_ROTORS];
+        for (f, w) in f.iter_mut().zip(speeds) {
+            *f = self.p.k_eta * *w * *w;
+        }
+        self.wrench_from_actuators(&f[..speeds.len().min(MAX_ROTORS)])
     }
 
     /// `ω̇_i = (clamp(ω_cmd,i) − ω_i)/τ_m` into `rates` (zero when `τ_m = 0`,
@@ -285,7 +301,6 @@ impl<B: Backend> Multirotor<B> {
     pub fn body_wrench(&self, speeds: &[S<B>], omega: V3<B>, airspeed: V3<B>) -> (V3<B>, V3<B>) {
         let p = &self.p;
         let e3 = B::vec3(S::<B>::zero(), S::<B>::zero(), S::<B>::one());
-        let rotor_drag = ops::diag::<B>(p.k_d, p.k_d, p.k_z);
         let mut force = ops::zero::<B>();
         let mut moment = ops::zero::<B>();
         for (r, &w) in p.rotors.iter().zip(speeds) {
@@ -293,9 +308,9 @@ impl<B: Backend> Multirotor<B> {
             let mut f = ops::zero::<B>();
             if p.aero {
                 let vi = airspeed + B::cross(omega, r.position);
-                let [vx, vy, _] = B::vec3_to_array(vi);
+                let [vx, vy, vz] = B::vec3_to_array(vi);
                 lift += p.k_h * (vx * vx + vy * vy);
-                f = rotor_drag * vi * (-w);
+                f = B::vec3(p.k_d * vx, p.k_d * vy, p.k_z * vz) * (-w);
                 moment = moment + B::cross(vi, e3) * (p.k_flap * w);
             }
             f = f - e3 * lift;
@@ -303,12 +318,10 @@ impl<B: Backend> Multirotor<B> {
             moment = moment + B::cross(r.position, f) - e3 * (r.direction * p.k_m * w * w);
         }
         if p.aero {
-            let drag = ops::diag::<B>(
-                B::vec3_to_array(p.c_d)[0],
-                B::vec3_to_array(p.c_d)[1],
-                B::vec3_to_array(p.c_d)[2],
-            );
-            force = force - drag * airspeed * ops::norm::<B>(airspeed);
+            // diag(c_D) v_a component by component, no matrix formed.
+            let ([cx, cy, cz], [ax, ay, az]) =
+                (B::vec3_to_array(p.c_d), B::vec3_to_array(airspeed));
+            force = force - B::vec3(cx * ax, cy * ay, cz * az) * ops::norm::<B>(airspeed);
         }
         (force, moment)
     }
@@ -469,33 +482,21 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
                 got: out.len(),
             });
         }
-        let [m1, m2, m3] = B::vec3_to_array(w.moment);
-        let x = [w.thrust, m1, m2, m3];
-        for (o, row) in out.iter_mut().zip(&self.alloc_inv) {
-            *o = (0..4).fold(S::<B>::zero(), |s, k| s + row[k] * x[k]);
-        }
+        self.thrusts(w, out);
         Ok(())
     }
     /// The wrench of the clamped rotor speeds (no aerodynamics).
     fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
-        let mut f = [S::<B>::zero(); MAX_ROTORS];
+        let mut speeds = [S::<B>::zero(); MAX_ROTORS];
         let n = self.p.rotors.len().min(MAX_ROTORS);
-        self.speed_commands(&w, &mut f[..n]);
-        for x in &mut f[..n] {
-            *x = self.p.k_eta * *x * *x;
-        }
-        self.wrench_from_actuators(&f[..n]).unwrap_or(w)
+        self.speed_commands(&w, &mut speeds[..n]);
+        self.wrench_at_speeds(&speeds[..n]).unwrap_or(w)
     }
     /// The wrench of the rotors at their current speeds, without
     /// aerodynamics (what the log reports as thrust and moment).
     fn applied_wrench(&self, commanded: &Wrench<B>, states: &[S<B>]) -> Wrench<B> {
         self.with_speeds(commanded, states, |w| {
-            let mut f = [S::<B>::zero(); MAX_ROTORS];
-            for (f, w) in f.iter_mut().zip(w) {
-                *f = self.p.k_eta * *w * *w;
-            }
-            self.wrench_from_actuators(&f[..w.len()])
-                .unwrap_or(*commanded)
+            self.wrench_at_speeds(w).unwrap_or(*commanded)
         })
     }
     fn state_count(&self) -> usize {

@@ -83,31 +83,23 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
     h: S<B>,
     terms: [(S<B>, &Deriv<B, N>); K],
 ) -> State<B, N> {
-    // Every field is written once (no copy of `y` to overwrite).
+    // The nine numbers of R here; every other field as a group stage has it.
     let mut dr = terms[0].1.r * (terms[0].0 * h);
-    let mut dw = terms[0].1.w * (terms[0].0 * h);
     for (c, k) in &terms[1..] {
         dr = dr + k.r * (*c * h);
-        dw = dw + k.w * (*c * h);
     }
+    let (d, extra) = increment(body, y, h, terms);
     let (x, v) = if body.translates {
-        let mut dx = terms[0].1.x * (terms[0].0 * h);
-        let mut dv = terms[0].1.v * (terms[0].0 * h);
-        for (c, k) in &terms[1..] {
-            dx = dx + k.x * (*c * h);
-            dv = dv + k.v * (*c * h);
-        }
-        (y.body.x + dx, y.body.v + dv)
+        (y.body.x + d.x, y.body.v + d.v)
     } else {
         (y.body.x, y.body.v)
     };
-    let extra = extras(y, h, &terms);
     State {
         body: dynamics::RigidBodyState {
             r: y.body.r + dr,
             x,
             v,
-            omega: y.body.omega + dw,
+            omega: y.body.omega + d.omega,
         },
         extra,
     }

@@ -384,22 +384,10 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         };
         let (m, nv) = (self.m, self.nv);
         let states = &y.extra[m..m + nv];
-        let tw = if self.wind.is_some() {
-            self.wind_time(t.to_f64_lossless())
-        } else {
-            0.0
-        };
-        let air = match self.wind.as_deref_mut() {
-            None => None,
-            Some(wind) => {
-                let a = wind.velocity(tw, f3::<B>(y.body.x));
-                Some(B::vec3(
-                    S::<B>::lit(a[0]),
-                    S::<B>::lit(a[1]),
-                    S::<B>::lit(a[2]),
-                ))
-            }
-        };
+        let air = self.wind.is_some().then(|| {
+            let a = self.wind_at(t.to_f64_lossless(), y);
+            B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
+        });
         let l = if let Some((buf, n)) = speeds {
             let air = air.unwrap_or_else(lie::ops::zero::<B>);
             match self.vehicle.loads_at_rotor_speeds(

@@ -11,7 +11,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use controllers::{Breakpoint, SatBranch};
-use dynamics::multirotor::MAX_ROTORS;
 use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
@@ -779,8 +778,10 @@ fn begin<B: Backend, const N: usize>(
         let first = sys.command(l(0.0), y);
         let states = &mut y.extra[m..m + nv];
         match first {
-            Some(c) if c.speeds.is_some() => {
-                let (buf, n) = c.speeds.unwrap_or(([l(0.0); MAX_ROTORS], 0));
+            Some(super::closed_loop::Command {
+                speeds: Some((buf, n)),
+                ..
+            }) => {
                 sys.vehicle
                     .initial_states_at_rotor_speeds(&buf[..n], states);
             }
