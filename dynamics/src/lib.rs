@@ -229,6 +229,18 @@ impl fmt::Display for DynamicsError {
 
 impl std::error::Error for DynamicsError {}
 
+/// What [`Vehicle::loads_at_rotor_speeds`] is given: commanded rotor
+/// speeds, the vehicle's internal states, and the wind at the vehicle.
+#[derive(Clone, Copy)]
+pub struct RotorSpeedInput<'a, B: Backend> {
+    /// Commanded rotor speeds, rad/s, one per rotor.
+    pub speeds: &'a [S<B>],
+    /// The vehicle's internal states (rotor speeds under a motor lag).
+    pub states: &'a [S<B>],
+    /// The inertial velocity of the air at the vehicle, m/s.
+    pub wind: V3<B>,
+}
+
 /// A vehicle: a rigid body with actuators. Object safe; simulations hold a
 /// `Box<dyn Vehicle<B>>` so that a new vehicle needs no change anywhere else.
 ///
@@ -362,19 +374,17 @@ pub trait Vehicle<B: Backend>: Send + Sync {
     ) -> Loads<B> {
         loads_applied(self, t, state, self.applied_wrench(commanded, states))
     }
-    /// The loads when the rotors are commanded `speeds` (rad/s) directly
-    /// instead of a wrench, in internal state `states` and wind `wind`,
-    /// with the internal states' rates written into `rates`. `None` (the
-    /// default) for a vehicle whose actuators are not rotors with speeds.
-    #[allow(clippy::too_many_arguments)]
+    /// The loads when the rotors are commanded speeds (rad/s) directly
+    /// instead of a wrench ([`RotorSpeedInput`]: the speeds, the internal
+    /// states, the wind), with the internal states' rates written into
+    /// `rates`. `None` (the default) for a vehicle whose actuators are not
+    /// rotors with speeds.
     fn loads_at_rotor_speeds(
         &self,
         _t: S<B>,
         _state: &RigidBodyState<B>,
-        _speeds: &[S<B>],
-        _states: &[S<B>],
+        _input: RotorSpeedInput<'_, B>,
         _rates: &mut [S<B>],
-        _wind: V3<B>,
     ) -> Option<Loads<B>> {
         None
     }

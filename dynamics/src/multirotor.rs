@@ -29,8 +29,8 @@ use lie::num_traits::{Float, One, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
 use crate::{
-    Disturbance, DynamicsError, Loads, RigidBodyState, Vehicle, Wrench, check_inertia,
-    check_positive,
+    Disturbance, DynamicsError, Loads, RigidBodyState, RotorSpeedInput, Vehicle, Wrench,
+    check_inertia, check_positive,
 };
 
 /// The most rotors a [`Multirotor`] has: its evaluations keep rotor
@@ -546,11 +546,14 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
         &self,
         _t: S<B>,
         state: &RigidBodyState<B>,
-        speeds: &[S<B>],
-        states: &[S<B>],
+        input: RotorSpeedInput<'_, B>,
         rates: &mut [S<B>],
-        wind: V3<B>,
     ) -> Option<Loads<B>> {
+        let RotorSpeedInput {
+            speeds,
+            states,
+            wind,
+        } = input;
         if self.p.tau_m > S::<B>::zero() {
             self.motor_rates(speeds, states, rates);
             return Some(self.loads_at(state, states, wind));

@@ -34,23 +34,6 @@ fn setup(json: Option<&str>) -> PyResult<Setup> {
     }
     let s: Setup =
         serde_json::from_value(value).map_err(|e| PyValueError::new_err(format!("setup: {e}")))?;
-    for (name, v) in [
-        ("omega_max", s.omega_max),
-        ("x_max", s.x_max),
-        ("v_max", s.v_max),
-        ("psi_tol", s.psi_tol),
-        ("x_tol", s.x_tol),
-        ("deadline", s.deadline),
-        ("hold", s.hold),
-        ("dt", s.dt),
-        ("tol", s.tol),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "{name} = {v}: must be finite and >= 0"
-            )));
-        }
-    }
     Ok(s)
 }
 
@@ -68,7 +51,7 @@ pub(crate) fn montecarlo<'py>(
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = setup(setup_json)?;
-    s.experiment().map_err(|e| sim_error(py, &e))?;
+    s.validate().map_err(|e| sim_error(py, &e))?;
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads = 0: must be at least 1"));
     }

@@ -411,6 +411,10 @@ def test_montecarlo_errors():
         geopid.montecarlo("attitude", samples=1, omega=3.0)
     with pytest.raises(ValueError, match="hold"):
         geopid.montecarlo("attitude", samples=1, hold=-1.0)
+    # A zero step would never end: refused before any sample runs.
+    with pytest.raises(ValueError, match="must be finite and > 0") as e:
+        geopid.montecarlo("attitude", samples=1, dt=0.0)
+    assert e.value.field == "dt"
     with pytest.raises(ValueError, match="threads"):
         geopid.montecarlo("attitude", samples=1, threads=0)
 

@@ -51,6 +51,8 @@
 
 pub mod builtin;
 mod dynamic;
+#[cfg(feature = "plot")]
+pub mod figures;
 mod from_scene;
 pub mod gains;
 pub mod metrics;
@@ -70,8 +72,8 @@ pub use from_scene::{
 pub use overrides::Overrides;
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, Sample,
-    Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
+    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, RunReport,
+    Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
     Termination, Until,
 };
 

@@ -27,6 +27,9 @@ use std::path::{Path, PathBuf};
 
 use crate::{RunOutput, Sample, SwitchRecord};
 
+mod paths;
+pub use paths::{PathError, check_paths, is_stdout};
+
 /// The CSV header, fixed.
 pub const CSV_HEADER: &str =
     "t,x1,x2,x3,v1,v2,v3,r11,r12,r13,r21,r22,r23,r31,r32,r33,w1,w2,w3,psi,ex,f,m1,m2,m3,mode";

@@ -31,7 +31,6 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use plotters::prelude::*;
 use scenarios::scene::{BackendKind, Scalar};
 
 mod lie_table;
@@ -287,7 +286,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     let wp_csv = out_dir.join("work_precision.csv");
     std::fs::write(&wp_csv, csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
     let wp_svg = out_dir.join("work_precision.svg");
-    plot_panels(&wp_svg, &wp)?;
+    scenarios::figures::work_precision_panels(&wp_svg, &wp).map_err(|e| e.to_string())?;
     best_per_accuracy(&wp);
 
     let mcap = out_dir.join("bench.mcap");
@@ -358,112 +357,4 @@ fn best_per_accuracy(wp: &[(String, &str, Point)]) {
             cell(1e-9)
         );
     }
-}
-
-fn plot_panels(path: &Path, wp: &[(String, &str, Point)]) -> Result<(), String> {
-    use crate::figure;
-    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    let shown = (1340, 900);
-    let (root, side) = figure::canvas(path, shown, 140)?;
-    let panels = root.split_evenly((2, 2));
-    let colors = figure::COLORS;
-    let kinds = ["euler", "lgvi", "rk4", "rk4-projected", "rkmk4", "dopri"];
-    let floor = 1e-16;
-    for (i, (scene, scalar)) in [
-        ("paper-flip", "f64"),
-        ("paper-flip", "f32"),
-        ("free-rigid-body", "f64"),
-        ("free-rigid-body", "f32"),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let sel: Vec<&(String, &str, Point)> = wp
-            .iter()
-            .filter(|(s, p, _)| s == scene && p.ends_with(scalar))
-            .collect();
-        if sel.is_empty() {
-            continue;
-        }
-        let xs = sel.iter().map(|x| x.2.wall.max(1e-6).log10());
-        let ys = sel.iter().map(|x| x.2.error.max(floor).log10());
-        let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-        let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-            (a.min(y), b.max(y))
-        });
-        let mut c = ChartBuilder::on(&panels[i])
-            .caption(format!("{scene}, {scalar}"), figure::font(16))
-            .margin(figure::px(8))
-            .x_label_area_size(figure::px(36))
-            .y_label_area_size(figure::px(56))
-            .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
-            .map_err(|e| err(&e))?;
-        figure::axes(
-            &mut c,
-            "wall time [s], log scale",
-            "max error [m, rad], log scale",
-            &figure::decade,
-            &figure::decade,
-            11,
-        )
-        .map_err(|e| err(&e))?;
-        for (k, kind) in kinds.iter().enumerate() {
-            let col = colors[k % colors.len()];
-            for backend in ["nalgebra", "glam"] {
-                let line: Vec<(f64, f64)> = sel
-                    .iter()
-                    .filter(|x| x.2.kind == *kind && x.1.starts_with(backend))
-                    .map(|x| (x.2.wall.max(1e-6).log10(), x.2.error.max(floor).log10()))
-                    .collect();
-                if line.is_empty() {
-                    continue;
-                }
-                let style = figure::line(col, 2);
-                if backend == "nalgebra" {
-                    c.draw_series(LineSeries::new(line.clone(), style))
-                        .map_err(|e| err(&e))?;
-                } else {
-                    let (d, g) = figure::DASHES[1];
-                    c.draw_series(DashedLineSeries::new(
-                        line.clone(),
-                        figure::px(d),
-                        figure::px(g),
-                        style,
-                    ))
-                    .map_err(|e| err(&e))?;
-                }
-                c.draw_series(
-                    line.into_iter()
-                        .map(|p| Circle::new(p, figure::px(2), col.filled())),
-                )
-                .map_err(|e| err(&e))?;
-            }
-        }
-    }
-    let mut entries: Vec<figure::Entry> = kinds
-        .iter()
-        .enumerate()
-        .map(|(k, kind)| figure::Entry {
-            label: kind.to_string(),
-            color: colors[k % colors.len()],
-            dash: 0,
-            dots: true,
-            line: true,
-        })
-        .collect();
-    for (label, dash) in [("nalgebra", 0), ("glam", 1)] {
-        entries.push(figure::Entry {
-            label: label.into(),
-            color: BLACK,
-            dash,
-            dots: false,
-            line: true,
-        });
-    }
-    figure::legend(&side, &entries, 40)?;
-    drop(panels);
-    drop(side);
-    figure::finish(root, path, shown)
 }

@@ -56,8 +56,7 @@ fn num(x: f64) -> serde_json::Value {
 }
 
 fn gains_json(g: &GainsSpec) -> serde_json::Value {
-    json!({"k_x": g.k_x, "k_v": g.k_v, "k_i": g.k_i, "k_r": g.k_r, "k_omega": g.k_omega,
-           "k_att_i": g.k_att_i, "c1": g.c1, "c2": g.c2, "sigma": g.sigma})
+    serde_json::to_value(g).unwrap_or_default()
 }
 
 fn report_json(g: &GainsSpec, sb: &SceneBounds, r: &GainReport) -> serde_json::Value {
@@ -84,38 +83,21 @@ fn print_bounds(sb: &SceneBounds) {
     );
 }
 
+/// The scene's gains with the keys of a report's `gains` object laid over
+/// them (an unknown key or a wrong type is an error naming it; the values
+/// are checked with the scene).
 fn read_gains(path: &PathBuf, base: &GainsSpec) -> Result<GainsSpec, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let g = v
-        .get("gains")
-        .ok_or_else(|| format!("{}: no `gains` object", path.display()))?;
-    let mut out = base.clone();
-    for (key, slot) in [
-        ("k_x", &mut out.k_x),
-        ("k_v", &mut out.k_v),
-        ("k_i", &mut out.k_i),
-        ("k_r", &mut out.k_r),
-        ("k_omega", &mut out.k_omega),
-        ("k_att_i", &mut out.k_att_i),
-        ("c1", &mut out.c1),
-        ("c2", &mut out.c2),
-        ("sigma", &mut out.sigma),
-    ] {
-        let x = g
-            .get(key)
-            .and_then(|x| x.as_f64())
-            .ok_or_else(|| format!("{}: `gains.{key}` missing or not a number", path.display()))?;
-        if !(x.is_finite() && x >= 0.0) {
-            return Err(format!(
-                "{}: `gains.{key}` = {x}: must be finite and ≥ 0",
-                path.display()
-            ));
-        }
-        *slot = x;
+    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let text = std::fs::read_to_string(path).map_err(|e| at(&e))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| at(&e))?;
+    let Some(serde_json::Value::Object(given)) = v.get("gains") else {
+        return Err(at(&"no `gains` object"));
+    };
+    let mut merged = gains_json(base);
+    for (k, x) in given {
+        merged[k] = x.clone();
     }
-    Ok(out)
+    serde_json::from_value(merged).map_err(|e| at(&format_args!("`gains`: {e}")))
 }
 
 /// `cargo xtask gains`.
@@ -129,6 +111,9 @@ pub fn gains(a: GainsArgs) -> Result<(), String> {
     let mut scene = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
     if let Some(p) = &a.gains {
         scene.gains = read_gains(p, &scene.gains)?;
+        scene
+            .validate()
+            .map_err(|(_, why)| format!("{}: {why}", p.display()))?;
     }
     let sb = scene_bounds(&scene, a.psi1, a.ex_max).map_err(|e| e.to_string())?;
     if a.synthesize {

@@ -27,10 +27,8 @@
 
 mod bench;
 mod conservation;
-mod figure;
 mod gains;
 mod montecarlo;
-mod plot;
 mod regress;
 mod run;
 mod stress;

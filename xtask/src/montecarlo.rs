@@ -9,15 +9,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use scenarios::Scene;
-use scenarios::montecarlo::{Initial, Outcome, SAMPLES_HEADER, Setup};
+use scenarios::montecarlo::{Initial, Outcome, Report, SAMPLES_HEADER, Setup};
 
 mod files;
-mod report;
 
 pub use files::merge;
 use files::{default_out, parse_shard, write_atomic, write_run_json, write_samples, write_shard};
-use report::print_summary;
-pub use report::summarize;
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -208,15 +205,22 @@ pub fn run_indices(
         .map_err(|e| e.to_string())
 }
 
+/// The report of a complete run, each slow sample with its command line.
+pub fn summary(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Report {
+    Report::new(setup, rows, wall, |i| {
+        format!("cargo xtask montecarlo {} --index {i}", flags(setup))
+    })
+}
+
 /// Writes samples.csv, summary.json, the figures and the worst sample's
 /// scene into `dir`, and prints the summary.
 fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Result<(), String> {
     write_samples(dir, rows)?;
-    let summary = summarize(setup, rows, wall);
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+    let report = summary(setup, rows, wall);
+    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    crate::plot::montecarlo(dir, rows)?;
-    print_summary(&summary);
+    scenarios::figures::montecarlo(dir, rows).map_err(|e| e.to_string())?;
+    print!("{report}");
     // The replay is the slowest *converged* sample: a diverging one would
     // make `cargo xtask run` (uncapped dopri) grind through its blow-up;
     // those are re-run with their `--index` command instead.
@@ -253,32 +257,13 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         None => {}
     }
     let setup = setup_from_args(&a);
-    let checks = [
-        ("--omega-max", setup.omega_max, true),
-        ("--x-max", setup.x_max, true),
-        ("--v-max", setup.v_max, true),
-        ("--psi-tol", setup.psi_tol, false),
-        ("--x-tol", setup.x_tol, false),
-        ("--deadline", setup.deadline, false),
-        ("--hold", setup.hold, true),
-        ("--dt", setup.dt, false),
-        ("--tol", setup.tol, false),
-    ];
-    for (name, v, zero_ok) in checks {
-        if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
-            return Err(format!(
-                "{name} {v}: must be finite and {}",
-                if zero_ok { "≥ 0" } else { "> 0" }
-            ));
+    setup.validate().map_err(|e| match e {
+        // The library names the setting; the command line spells it as a flag.
+        scenarios::SimError::Setting { field, message } => {
+            format!("--{} {message}", field.replace('_', "-"))
         }
-    }
-    if setup.psi_tol >= 2.0 {
-        return Err(format!("--psi-tol {}: must be below 2", setup.psi_tol));
-    }
-    setup
-        .integrator
-        .parse::<integrators::IntegratorKind>()
-        .map_err(|e| format!("--integrator: {e}"))?;
+        e => e.to_string(),
+    })?;
     if setup.samples == 0 {
         return Err("--samples 0: nothing to run".into());
     }
@@ -381,26 +366,10 @@ pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
     println!(
         "time to Ψ < 1e-3 from R(0) = exp((π − δ) â), attitude mode, paper gains, no disturbance:"
     );
-    let mut worst = 0.0f64;
     for a in &report {
-        let t: Vec<String> = a.times.iter().map(|p| format!("{:.3}", p.1)).collect();
-        println!(
-            "  a = {} (J = {}): t_converge for δ = 1e-1 … 1e-10: {}",
-            a.axis,
-            a.j,
-            t.join(", ")
-        );
-        let rel = (a.slope * a.lambda - 1.0).abs();
-        worst = worst.max(rel);
-        println!(
-            "  a = {}: slope of t_converge against ln(1/δ) over k = 4…10: {:.5} s; 1/λ₊ = {:.5} s (λ₊ = {:.5} /s); ratio {:.5}",
-            a.axis,
-            a.slope,
-            1.0 / a.lambda,
-            a.lambda,
-            a.slope * a.lambda
-        );
+        println!("{a}");
     }
+    let worst = report.iter().map(|a| a.slope_error()).fold(0.0, f64::max);
     println!("wrote {}", dir.join("near-pi.csv").display());
     if worst > 0.01 {
         return Err(format!(

@@ -8,12 +8,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use scenarios::scene::{BackendKind, Scalar};
 use scenarios::{RunOptions, RunOutput, Sample, Scene, SimError, SwitchRecord, builtin, output};
 
-mod outputs;
 mod report;
 mod signals;
 
-pub use outputs::{check_outputs, is_stdout};
-pub use report::{health_warnings, summary};
+pub use report::health_warnings;
 use signals::install_signal_flags;
 pub use signals::{EXIT_SIGINT, EXIT_SIGPIPE, EXIT_SIGTERM};
 
@@ -256,6 +254,21 @@ fn outcome(
     }
 }
 
+/// Every output path checked before the run: none may be the scene file.
+fn check_paths(a: &RunArgs, scene_name: &str) -> Result<(), String> {
+    let scene_file = Path::new(scene_name);
+    let files: Vec<(&str, &Path)> = [("--csv", a.csv.as_deref()), ("--mcap", a.mcap.as_deref())]
+        .into_iter()
+        .filter_map(|(f, p)| Some((f, p?)))
+        .collect();
+    output::check_paths(
+        &files,
+        a.plot.as_deref().map(|p| ("--plot", p)),
+        scene_file.exists().then_some(scene_file),
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// `cargo xtask run`: returns the process's exit status (0, or 130/143
 /// after SIGINT/SIGTERM with the outputs closed).
 pub fn run(a: RunArgs) -> Result<u8, String> {
@@ -274,13 +287,7 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         print!("{}", scene.to_toml());
         return Ok(0);
     }
-    let scene_file = Path::new(name);
-    check_outputs(
-        a.csv.as_deref(),
-        a.mcap.as_deref(),
-        a.plot.as_deref(),
-        scene_file.exists().then_some(scene_file),
-    )?;
+    check_paths(&a, name)?;
     if !a.yes {
         refuse_huge(&scene)?;
     }
@@ -334,14 +341,15 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     let to_stdout = [a.csv.as_deref(), a.mcap.as_deref()]
         .into_iter()
         .flatten()
-        .any(is_stdout);
+        .any(output::is_stdout);
     let mut report: Box<dyn std::io::Write> = if to_stdout {
         Box::new(std::io::stderr())
     } else {
         Box::new(std::io::stdout())
     };
     if let Ok(out) = &result {
-        summary(&mut report, &scene, out).map_err(|e| format!("printing the summary: {e}"))?;
+        write!(report, "{}", out.report(&scene))
+            .map_err(|e| format!("printing the summary: {e}"))?;
     }
     let health_count = warnings.len() - result.as_ref().map_or(0, |o| o.warnings.len());
     // Both files close at once: each ends with an fsync, which for a long
@@ -400,7 +408,7 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         ));
     }
     if let Some(dir) = &a.plot {
-        let files = crate::plot::figures(dir, &scene, &out)?;
+        let files = scenarios::figures::run(dir, &scene, &out).map_err(|e| e.to_string())?;
         for f in files {
             let _ = writeln!(report, "  wrote {}", f.display());
         }

@@ -8,7 +8,6 @@
 
 use std::path::PathBuf;
 
-use plotters::prelude::*;
 use scenarios::Scene;
 
 /// Options of `cargo xtask sweep`.
@@ -70,7 +69,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
     }
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let svg = dir.join(format!("{}.svg", base.name));
-    plot(&svg, &base.name, &pts)?;
+    scenarios::figures::work_precision(&svg, &base.name, &pts).map_err(|e| e.to_string())?;
     println!("wrote {} and {}", csv.display(), svg.display());
     Ok(())
 }
@@ -87,69 +86,4 @@ pub fn points(
         println!("  {kind} {p:e}: failed: {e}");
     }
     Ok(sweep.points)
-}
-
-/// Log–log error against wall time, a line per stepper.
-pub fn plot(path: &std::path::Path, name: &str, pts: &[Point]) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    let floor = 1e-16;
-    let xs = pts.iter().map(|p| p.wall.max(1e-6).log10());
-    let ys = pts.iter().map(|p| p.error.max(floor).log10());
-    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    });
-    let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-        (a.min(y), b.max(y))
-    });
-    let shown = (840, 480);
-    let (plot, side) = crate::figure::canvas(path, shown, 130)?;
-    let mut c = ChartBuilder::on(&plot)
-        .caption(
-            format!("{name}: error against wall time"),
-            crate::figure::font(17),
-        )
-        .margin(crate::figure::px(10))
-        .x_label_area_size(crate::figure::px(40))
-        .y_label_area_size(crate::figure::px(64))
-        .build_cartesian_2d((x0 - 0.2)..(x1 + 0.2), (y0 - 0.5)..(y1 + 0.5))
-        .map_err(|e| err(&e))?;
-    crate::figure::axes(
-        &mut c,
-        "wall time [s], log scale",
-        "max error: |Δx| [m], |ΔR| [dimensionless], log scale",
-        &crate::figure::decade,
-        &crate::figure::decade,
-        12,
-    )
-    .map_err(|e| err(&e))?;
-    let colors = crate::figure::COLORS;
-    let mut kinds: Vec<&str> = pts.iter().map(|p| p.kind.as_str()).collect();
-    kinds.dedup();
-    let mut entries = Vec::new();
-    for (i, k) in kinds.iter().enumerate() {
-        let col = colors[i % colors.len()];
-        let line: Vec<(f64, f64)> = pts
-            .iter()
-            .filter(|p| p.kind == *k)
-            .map(|p| (p.wall.max(1e-6).log10(), p.error.max(floor).log10()))
-            .collect();
-        c.draw_series(LineSeries::new(line.clone(), crate::figure::line(col, 2)))
-            .map_err(|e| err(&e))?;
-        c.draw_series(
-            line.into_iter()
-                .map(|p| Circle::new(p, crate::figure::px(3), col.filled())),
-        )
-        .map_err(|e| err(&e))?;
-        entries.push(crate::figure::Entry {
-            label: k.to_string(),
-            color: col,
-            dash: 0,
-            dots: true,
-            line: true,
-        });
-    }
-    crate::figure::legend(&side, &entries, 40)?;
-    drop(c);
-    drop(side);
-    crate::figure::finish(plot, path, shown)
 }

@@ -158,6 +158,46 @@ impl Setup {
         }
     }
 
+    /// Checks every setting before a sample runs: radii and `hold` finite
+    /// and ≥ 0, tolerances, `deadline`, `dt` and `tol` finite and > 0
+    /// (a zero step would never end, a zero tolerance never settle),
+    /// `psi_tol` < 2 (Ψ ≤ 2 always: a larger bound settles at once), a
+    /// known integrator and experiment. The error names the field.
+    ///
+    /// ```
+    /// use scenarios::montecarlo::Setup;
+    /// let bad = Setup { dt: 0.0, ..Setup::default() };
+    /// let e = bad.validate().unwrap_err();
+    /// assert!(matches!(e, scenarios::SimError::Setting { field: "dt", .. }), "{e}");
+    /// ```
+    pub fn validate(&self) -> Result<(), SimError> {
+        let fail = |field, message: String| Err(SimError::Setting { field, message });
+        let values = [
+            ("omega_max", self.omega_max, true),
+            ("x_max", self.x_max, true),
+            ("v_max", self.v_max, true),
+            ("hold", self.hold, true),
+            ("psi_tol", self.psi_tol, false),
+            ("x_tol", self.x_tol, false),
+            ("deadline", self.deadline, false),
+            ("dt", self.dt, false),
+            ("tol", self.tol, false),
+        ];
+        for (field, v, zero_ok) in values {
+            if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+                let want = if zero_ok { "≥ 0" } else { "> 0" };
+                return fail(field, format!("{v}: must be finite and {want}"));
+            }
+        }
+        if self.psi_tol >= 2.0 {
+            return fail("psi_tol", format!("{}: must be below 2", self.psi_tol));
+        }
+        if let Err(e) = self.integrator.parse::<integrators::IntegratorKind>() {
+            return fail("integrator", e.to_string());
+        }
+        self.experiment().map(|_| ())
+    }
+
     fn is_position(&self) -> bool {
         self.experiment == "position"
     }
@@ -301,6 +341,7 @@ impl Setup {
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
     ) -> Result<Vec<Outcome>, SimError> {
+        self.validate()?;
         let trials = self.study().run(indices, threads, progress)?;
         Ok(trials.into_iter().map(Outcome::from).collect())
     }
@@ -315,6 +356,7 @@ impl Setup {
         progress: Option<&(dyn Fn(u64) + Sync)>,
         cancel: &std::sync::atomic::AtomicBool,
     ) -> Result<Vec<Outcome>, SimError> {
+        self.validate()?;
         let trials = self
             .study()
             .run_until_cancelled(indices, threads, progress, cancel)?;
@@ -323,6 +365,7 @@ impl Setup {
 
     /// Runs sample `index`.
     pub fn run_sample(&self, index: u64) -> Result<Outcome, SimError> {
+        self.validate()?;
         self.study().sample(index).map(Outcome::from)
     }
 }

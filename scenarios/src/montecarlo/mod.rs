@@ -65,6 +65,7 @@
 
 mod experiments;
 mod near_pi;
+mod report;
 
 pub use experiments::{
     DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup,
@@ -73,6 +74,7 @@ pub use experiments::{
 pub use near_pi::{NearPiAxis, near_pi};
 pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
+pub use report::{Cost, Report, SlowSample};
 
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -38,6 +38,37 @@ pub struct NearPiAxis {
     pub slope: f64,
 }
 
+impl NearPiAxis {
+    /// `|slope · λ₊ − 1|`: how far the measured escape rate is from the
+    /// linearisation's.
+    pub fn slope_error(&self) -> f64 {
+        (self.slope * self.lambda - 1.0).abs()
+    }
+}
+
+impl std::fmt::Display for NearPiAxis {
+    /// Two lines: the times to converge, then the slope against 1/λ₊.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let t: Vec<String> = self.times.iter().map(|p| format!("{:.3}", p.1)).collect();
+        writeln!(
+            f,
+            "  a = {} (J = {}): t_converge for δ = 1e-1 … 1e-10: {}",
+            self.axis,
+            self.j,
+            t.join(", ")
+        )?;
+        write!(
+            f,
+            "  a = {}: slope of t_converge against ln(1/δ) over k = 4…10: {:.5} s; 1/λ₊ = {:.5} s (λ₊ = {:.5} /s); ratio {:.5}",
+            self.axis,
+            self.slope,
+            1.0 / self.lambda,
+            self.lambda,
+            self.slope * self.lambda
+        )
+    }
+}
+
 /// From `R(0) = exp((π − δ) â)` for â = e1 and e3, δ = 10⁻¹ … 10⁻¹⁰: the
 /// time to Ψ < 10⁻³ in the large-attitude-error scene without its
 /// disturbance (RK4 at 1 ms, 60 s at most), and the fitted slope against

@@ -3,7 +3,7 @@
 //! active, switching into the next).
 
 use controllers::{ControlError, ModeOutput, VehicleState};
-use dynamics::{Vehicle, Wind, Wrench};
+use dynamics::{RotorSpeedInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
 use lie::{Backend, Real, S, So3Mat};
@@ -390,14 +390,15 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         });
         let l = if let Some((buf, n)) = speeds {
             let air = air.unwrap_or_else(lie::ops::zero::<B>);
-            match self.vehicle.loads_at_rotor_speeds(
-                t,
-                &y.body,
-                &buf[..n],
+            let input = RotorSpeedInput {
+                speeds: &buf[..n],
                 states,
-                &mut rates[m..m + nv],
-                air,
-            ) {
+                wind: air,
+            };
+            match self
+                .vehicle
+                .loads_at_rotor_speeds(t, &y.body, input, &mut rates[m..m + nv])
+            {
                 Some(l) => l,
                 None => {
                     let mode = self.plan[self.active].mode.name();

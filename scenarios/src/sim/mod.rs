@@ -21,6 +21,8 @@
 
 mod closed_loop;
 mod events;
+mod report;
+pub use report::RunReport;
 pub(crate) mod record;
 mod stepping;
 

@@ -1,9 +1,5 @@
-//! What every figure here shares, so that each reads at a glance: legends
-//! in a panel beside the plot (never over data), desired or reference
-//! curves dashed and the legend showing the dash, tick labels without
-//! `-0` and integers without `.0`, axis titles as `quantity [unit]`, and
-//! drawing at three times the shown size so lines and dots sit at
-//! sub-pixel positions (the SVG backend writes whole numbers).
+//! The house style: drawing at three times the shown size so lines and
+//! dots sit at sub-pixel positions (the SVG backend writes whole numbers).
 
 use std::path::Path;
 
