@@ -89,36 +89,58 @@ pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
     B::vec3(x * k, y * k, z * k)
 }
 
-/// Logarithm of a rotation matrix. Below angle π/2 or so (the trace the
-/// largest of Shepperd's pivots), straight from the skew part
-/// `u = (R₃₂ − R₂₃, R₁₃ − R₃₁, R₂₁ − R₁₂) = 2 sin θ · axis` and
-/// `cos θ = (tr R − 1)/2`: `θ = asin(|u|/2)` while `sin θ < cos θ`
-/// (θ < π/4), else `acos`, each where it is well conditioned, so no
-/// quaternion is formed
-/// (one square root and one division fewer). Otherwise through Shepperd's
-/// quaternion, where a diagonal pivot keeps the axis accurate near π.
+/// Logarithm of a rotation matrix. Up to 2π/3 (`cos θ = (tr R − 1)/2 ≥
+/// −1/2`), straight from the skew part `u = (R₃₂ − R₂₃, R₁₃ − R₃₁,
+/// R₂₁ − R₁₂) = 2 sin θ · axis`, with one inverse sine: `θ = asin(|u|/2)`
+/// below π/4 and `θ = π/2 − asin(cos θ)` from there, each argument where
+/// `asin` is well conditioned (|x| ≤ 1/√2: condition number at most √2);
+/// `acos` of the trace alone loses half the digits near 0. Which argument
+/// is a select, not a branch, so angles on both sides of π/4 in one batch
+/// cost no mispredictions, and the reciprocal of `|u|` is taken before
+/// the call so that the division runs beside it. Beyond 2π/3 through
+/// Shepperd's quaternion, where a diagonal pivot keeps the axis accurate up
+/// to π (`u` vanishes there).
 #[inline]
 pub fn log_matrix<B: Backend>(m: M3<B>) -> V3<B> {
     let e = ops::elems::<B>(m);
-    let (m00, m11, m22) = (e[0][0], e[1][1], e[2][2]);
-    let tr = m00 + m11 + m22;
-    if !(tr >= m00 && tr >= m11 && tr >= m22) {
-        return log_wxyz::<B>(shepperd::<B>(m));
-    }
+    let c2 = e[0][0] + e[1][1] + e[2][2] - S::<B>::one();
     let (ux, uy, uz) = (e[2][1] - e[1][2], e[0][2] - e[2][0], e[1][0] - e[0][1]);
     let s2 = ux * ux + uy * uy + uz * uz;
     let s = s2.sqrt();
     let half = S::<B>::lit(0.5);
-    let one = S::<B>::one();
+    if c2 < S::<B>::lit(-1.0) {
+        // Rebuilt here from the elements already read, so that only this
+        // rare branch writes a copy for the call to point at (passing `m`
+        // made every call copy the whole matrix first).
+        let [x, y, z] = log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e));
+        return B::vec3(x, y, z);
+    }
     // k = θ/(2 sin θ), so that φ = k u.
     let k = if s < S::<B>::CUT_LOG {
         half + s2 * S::<B>::lit(1.0 / 48.0)
-    } else if s < tr - one {
-        (s * half).asin() / s
     } else {
-        ((tr - one) * half).acos() / s
+        let small = c2 > S::<B>::lit(core::f64::consts::SQRT_2);
+        let inv = S::<B>::one() / s;
+        let a = (if small { s } else { c2 } * half).asin();
+        let theta = if small {
+            a
+        } else {
+            S::<B>::lit(core::f64::consts::FRAC_PI_2) - a
+        };
+        theta * inv
     };
     B::vec3(ux * k, uy * k, uz * k)
+}
+
+/// [`log_matrix`] beyond 2π/3, kept out of line: inlined, its quaternion
+/// code crowded the common path's registers (1.2× nalgebra's log over a
+/// batch of rotations instead of 1.01–1.07×). Returns an array, not a
+/// vector, so that a three-`f32` result comes back in registers and an
+/// `f64` one is written straight where the caller wants it.
+#[inline(never)]
+#[cold]
+fn log_beyond_two_thirds_pi<B: Backend>(m: &M3<B>) -> [S<B>; 3] {
+    B::vec3_to_array(log_wxyz::<B>(shepperd::<B>(*m)))
 }
 
 /// The rotation matrix of a unit quaternion.

@@ -112,30 +112,37 @@ pub trait LieGroup<B: Backend>: Copy {
     fn jacobian_neg(a: Self::Jacobian) -> Self::Jacobian;
 
     /// The left Jacobian `J_l(τ) = J_r(−τ)`.
+    #[inline]
     fn left_jacobian(tau: Self::Tangent) -> Self::Jacobian {
         Self::right_jacobian(Self::tangent_neg(tau))
     }
     /// `J_l(τ)⁻¹`.
+    #[inline]
     fn left_jacobian_inv(tau: Self::Tangent) -> Self::Jacobian {
         Self::right_jacobian_inv(Self::tangent_neg(tau))
     }
     /// `X ⊕ τ = X·Exp(τ)`.
+    #[inline]
     fn rplus(self, tau: Self::Tangent) -> Self {
         self.compose(Self::exp(tau))
     }
     /// `τ ⊕ X = Exp(τ)·X`.
+    #[inline]
     fn lplus(self, tau: Self::Tangent) -> Self {
         Self::exp(tau).compose(self)
     }
     /// `Y ⊖ X = Log(X⁻¹·Y)` with `self = Y`.
+    #[inline]
     fn rminus(self, x: Self) -> Self::Tangent {
         x.inverse().compose(self).log()
     }
     /// `Log(Y·X⁻¹)` with `self = Y`.
+    #[inline]
     fn lminus(self, x: Self) -> Self::Tangent {
         self.compose(x.inverse()).log()
     }
     /// `X⁻¹·Y` with `self = X`.
+    #[inline]
     fn between(self, y: Self) -> Self {
         self.inverse().compose(y)
     }

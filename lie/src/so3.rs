@@ -189,11 +189,11 @@ impl<B: Backend> So3Mat<B> {
         let (a, b, c) = series::exp_coeffs(ops::norm::<B>(phi));
         Self(rodrigues::<B>(c, a, b, phi))
     }
-    /// From the skew part and the trace where the trace is the largest
-    /// pivot, else through Shepperd's quaternion of the largest pivot
-    /// ([`log_matrix`](crate::log_matrix)): accurate to rounding at every
-    /// angle, including exactly π, where `acos((tr R − 1)/2)` alone loses
-    /// half its digits and the skew part has none left for the axis.
+    /// From the skew part up to 2π/3, else through Shepperd's quaternion of
+    /// the largest pivot ([`log_matrix`](crate::log_matrix)): accurate to
+    /// rounding at every angle, including exactly π, where
+    /// `acos((tr R − 1)/2)` alone loses half its digits and the skew part
+    /// has none left for the axis.
     #[inline]
     pub fn log(self) -> V3<B> {
         convert::log_matrix::<B>(self.0)

@@ -118,7 +118,8 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
-/// Every `new/benchmark.json` + `new/estimates.json` pair under `dir`.
+/// Every `new/benchmark.json` + `new/estimates.json` pair under `dir`:
+/// the id and the median time per operation, ns.
 fn collect(dir: &Path, out: &mut Vec<(String, f64)>) -> Result<(), String> {
     let entries =
         std::fs::read_dir(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
@@ -136,14 +137,15 @@ fn collect(dir: &Path, out: &mut Vec<(String, f64)>) -> Result<(), String> {
                         std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
                     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))
                 };
-                let id = read(&bench)?["full_id"]
-                    .as_str()
-                    .unwrap_or_default()
-                    .to_string();
+                let meta = read(&bench)?;
+                let id = meta["full_id"].as_str().unwrap_or_default().to_string();
                 let median = read(&est)?["median"]["point_estimate"]
                     .as_f64()
                     .ok_or_else(|| format!("{}: no median.point_estimate", est.display()))?;
-                out.push((id, median));
+                // A benchmark over a batch says how many operations one
+                // iteration is; the tables are per operation.
+                let per = meta["throughput"]["Elements"].as_f64().unwrap_or(1.0);
+                out.push((id, median / per));
             }
         } else {
             collect(&path, out)?;
