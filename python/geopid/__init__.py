@@ -176,7 +176,10 @@ def run(
     µs an evaluation, several evaluations a step), and an exception it
     raises stops the run and is re-raised.
 
-    Raises :class:`SceneError` for a bad scene or setting,
+    Raises ``OSError`` (with ``field``, "csv" or "mcap", and ``path``)
+    before anything runs when an output cannot be written there (a
+    missing directory, a directory, both outputs naming one file),
+    :class:`SceneError` for a bad scene or setting,
     :class:`SimulationError` (with ``t``) when a step fails, and
     :class:`DivergedError` (with ``t``, ``termination`` and the partial
     ``result``) when the guard stops the run, unless

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scenarios::{
@@ -122,7 +122,31 @@ fn guard(d: Option<&Bound<'_, PyDict>>) -> PyResult<DivergenceGuard> {
     Ok(g)
 }
 
-/// Runs `scene` to the end; writes `csv` and `mcap` when given.
+/// The output paths checked before the run, so that a path that cannot
+/// be written fails now, not after the run: `OSError` with `field`
+/// (`"csv"` or `"mcap"`) and `path`.
+fn check_outputs(
+    py: Python<'_>,
+    csv: Option<&std::path::Path>,
+    mcap: Option<&std::path::Path>,
+) -> PyResult<()> {
+    let files: Vec<(&str, &std::path::Path)> = [("csv", csv), ("mcap", mcap)]
+        .into_iter()
+        .filter_map(|(f, p)| Some((f, p?)))
+        .collect();
+    output::check_paths(&files, None, None).map_err(|e| {
+        let err = PyOSError::new_err(e.to_string());
+        let v = err.value(py);
+        // Attributes that cannot be set leave the message, which says the
+        // same; the class is still right.
+        let _ = v.setattr("field", e.field.as_str());
+        let _ = v.setattr("path", e.path.clone());
+        err
+    })
+}
+
+/// Runs `scene` to the end; writes `csv` and `mcap` when given (their
+/// paths checked before the run: `OSError` with `field` and `path`).
 /// `reference`, a callable `t -> (x, v, a, jerk, snap, b1d, b1d_dot,
 /// b1d_ddot)` (or a dict of them), replaces the position reference of
 /// every position-mode segment; an exception it raises is re-raised. `guard`
@@ -145,6 +169,7 @@ pub(crate) fn run<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = &scene.inner;
     let limits = self::guard(guard)?;
+    check_outputs(py, csv.as_deref(), mcap.as_deref())?;
     let cell = ErrorCell::default();
     let position = reference.map(|f| position_fn(f, cell.clone()));
     let out = match position {

@@ -112,6 +112,22 @@ def test_run_matches_the_command_line_csv(tmp_path):
     assert ours.read_bytes() == cli.read_bytes()
 
 
+def test_output_paths_fail_before_the_run(tmp_path):
+    """A path that cannot be written is refused before anything runs (a
+    long run does not end in a lost result), naming the argument."""
+    with pytest.raises(OSError) as e:
+        geopid.run("paper-flip", duration=100.0, csv=tmp_path / "no" / "such" / "dir.csv")
+    assert e.value.field == "csv"
+    assert "no/such" in str(e.value)
+    with pytest.raises(OSError) as e:
+        geopid.run("paper-flip", duration=100.0, csv=tmp_path / "a", mcap=tmp_path / "." / "a")
+    assert e.value.field == "mcap" and "same file as csv" in str(e.value)
+    with pytest.raises(OSError) as e:
+        geopid.run("paper-flip", duration=100.0, mcap=tmp_path)
+    assert e.value.field == "mcap" and "directory" in str(e.value)
+    assert not (tmp_path / "a").exists()
+
+
 def test_every_scalar_and_backend_agree():
     runs = [geopid.run("hover-disturbed", duration=1.0, scalar=s, backend=b)
             for s in ("f64", "f32") for b in ("nalgebra", "glam")]
