@@ -130,11 +130,7 @@ fn check_outputs(
     csv: Option<&std::path::Path>,
     mcap: Option<&std::path::Path>,
 ) -> PyResult<()> {
-    let files: Vec<(&str, &std::path::Path)> = [("csv", csv), ("mcap", mcap)]
-        .into_iter()
-        .filter_map(|(f, p)| Some((f, p?)))
-        .collect();
-    output::check_paths(&files, None, None).map_err(|e| {
+    output::check_paths(&[("csv", csv), ("mcap", mcap)], None, None).map_err(|e| {
         let err = PyOSError::new_err(e.to_string());
         let v = err.value(py);
         // Attributes that cannot be set leave the message, which says the

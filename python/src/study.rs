@@ -51,7 +51,6 @@ pub(crate) fn montecarlo<'py>(
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = setup(setup_json)?;
-    s.validate().map_err(|e| sim_error(py, &e))?;
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads = 0: must be at least 1"));
     }

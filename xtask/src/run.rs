@@ -257,12 +257,8 @@ fn outcome(
 /// Every output path checked before the run: none may be the scene file.
 fn check_paths(a: &RunArgs, scene_name: &str) -> Result<(), String> {
     let scene_file = Path::new(scene_name);
-    let files: Vec<(&str, &Path)> = [("--csv", a.csv.as_deref()), ("--mcap", a.mcap.as_deref())]
-        .into_iter()
-        .filter_map(|(f, p)| Some((f, p?)))
-        .collect();
     output::check_paths(
-        &files,
+        &[("--csv", a.csv.as_deref()), ("--mcap", a.mcap.as_deref())],
         a.plot.as_deref().map(|p| ("--plot", p)),
         scene_file.exists().then_some(scene_file),
     )

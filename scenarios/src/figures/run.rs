@@ -91,86 +91,74 @@ fn measured_and_desired(
     series
 }
 
+/// `n` solid curves `symbol1 … symboln` of one component each, a colour
+/// per component.
+fn components(
+    s: &[Sample],
+    n: usize,
+    symbol: &str,
+    get: impl Fn(&Sample, usize) -> f64,
+) -> Vec<Series> {
+    (0..n)
+        .map(|k| {
+            let line = s.iter().map(|x| (x.t, get(x, k))).collect();
+            (
+                format!("{symbol}{}", k + 1),
+                line,
+                COLORS[k % COLORS.len()],
+                0,
+            )
+        })
+        .collect()
+}
+
 /// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg` and, for a
 /// run in wind, `wind.svg` into `dir`.
 pub(super) fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let s = &out.samples;
-    let mut written = Vec::new();
     let name = &scene.name;
-    let p = dir.join("psi.svg");
-    chart(
-        &p,
-        &format!("{name}: attitude error Ψ"),
+    let mut written = Vec::new();
+    let mut draw = |file: &str, title: String, ylabel: &str, series: &[Series]| {
+        let p = dir.join(file);
+        chart(&p, &format!("{name}: {title}"), ylabel, series)?;
+        written.push(p);
+        Ok::<(), String>(())
+    };
+    let psi = [(
+        "Ψ".into(),
+        s.iter().map(|x| (x.t, x.psi)).collect(),
+        COLORS[0],
+        0,
+    )];
+    draw(
+        "psi.svg",
+        "attitude error Ψ".into(),
         "Ψ [dimensionless]",
-        &[(
-            "Ψ".into(),
-            s.iter().map(|x| (x.t, x.psi)).collect(),
-            COLORS[0],
-            0,
-        )],
+        &psi,
     )?;
-    written.push(p);
     if s.iter().any(|x| x.x != [0.0; 3] || x.xd != [0.0; 3]) {
         let series = measured_and_desired(s, "x", |x| x.x, |x| x.xd);
-        let p = dir.join("position.svg");
-        chart(
-            &p,
-            &format!("{name}: position x (solid), x_d (dashed); e3 down"),
-            "x [m]",
-            &series,
-        )?;
-        written.push(p);
+        let title = "position x (solid), x_d (dashed); e3 down".into();
+        draw("position.svg", title, "x [m]", &series)?;
     }
     let series = measured_and_desired(s, "Ω", |x| x.omega, |x| x.omega_d);
-    let p = dir.join("omega.svg");
-    chart(
-        &p,
-        &format!("{name}: Ω (solid), Ω_d or Ω_c (dashed)"),
+    draw(
+        "omega.svg",
+        "Ω (solid), Ω_d or Ω_c (dashed)".into(),
         "Ω [rad/s]",
         &series,
     )?;
-    written.push(p);
     let n_rot = s.first().map_or(0, |x| x.rotors.len());
     if n_rot > 0 {
-        let series: Vec<Series> = (0..n_rot)
-            .map(|k| {
-                (
-                    format!("f{}", k + 1),
-                    s.iter().map(|x| (x.t, x.rotors[k])).collect(),
-                    COLORS[k % COLORS.len()],
-                    0,
-                )
-            })
-            .collect();
-        let p = dir.join("rotors.svg");
-        chart(
-            &p,
-            &format!("{name}: rotor thrusts (allocation inverse)"),
-            "rotor thrust [N]",
-            &series,
-        )?;
-        written.push(p);
+        let series = components(s, n_rot, "f", |x, k| x.rotors[k]);
+        let title = "rotor thrusts (allocation inverse)".into();
+        draw("rotors.svg", title, "rotor thrust [N]", &series)?;
     }
     if s.iter().any(|x| x.wind != [0.0; 3]) {
-        let series: Vec<Series> = (0..3)
-            .map(|k| {
-                (
-                    format!("w{}", k + 1),
-                    s.iter().map(|x| (x.t, x.wind[k])).collect(),
-                    COLORS[k],
-                    0,
-                )
-            })
-            .collect();
-        let p = dir.join("wind.svg");
-        chart(
-            &p,
-            &format!("{name}: wind at the vehicle (inertial, e3 down)"),
-            "w [m/s]",
-            &series,
-        )?;
-        written.push(p);
+        let series = components(s, 3, "w", |x, k| x.wind[k]);
+        let title = "wind at the vehicle (inertial, e3 down)".into();
+        draw("wind.svg", title, "w [m/s]", &series)?;
     }
     Ok(written)
 }

@@ -41,7 +41,8 @@ fn fail(field: &str, path: &Path, message: impl std::fmt::Display) -> PathError 
 
 /// Checks output files and an output directory before anything runs.
 ///
-/// Each file (`(field, path)`) must be a new file in an existing, writable
+/// Each file given (`(field, Some(path))`; `None`, an output not asked
+/// for, is skipped) must be a new file in an existing, writable
 /// directory, a regular file (replaced when the run ends) or a stream
 /// (`/dev/null`, a pipe: written in place); never a directory, a dangling
 /// link, the `input` file (also through a symlink), or the same file as
@@ -54,19 +55,23 @@ fn fail(field: &str, path: &Path, message: impl std::fmt::Display) -> PathError 
 /// use std::path::Path;
 /// let dir = std::env::temp_dir();
 /// let (csv, mcap) = (dir.join("run.csv"), dir.join(".").join("run.csv"));
-/// let e = scenarios::output::check_paths(&[("csv", &csv), ("mcap", &mcap)], None, None)
+/// let files = [("csv", Some(csv.as_path())), ("mcap", Some(mcap.as_path()))];
+/// let e = scenarios::output::check_paths(&files, None, None)
 ///     .unwrap_err();
 /// assert_eq!(e.field, "mcap");
 /// assert!(e.message.contains("same file as csv"));
 /// ```
 pub fn check_paths(
-    files: &[(&str, &Path)],
+    files: &[(&str, Option<&Path>)],
     dir: Option<(&str, &Path)>,
     input: Option<&Path>,
 ) -> Result<(), PathError> {
     let input = input.and_then(|s| s.canonicalize().ok());
     let mut seen: Vec<(&str, PathBuf)> = Vec::new();
     for &(field, p) in files {
+        let Some(p) = p else {
+            continue;
+        };
         // Two outputs to `/dev/null` are fine, and a pipe behind
         // `/dev/stdout` has no path to compare.
         let Some(abs) = resolve(field, p)? else {
@@ -151,7 +156,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let (csv, mcap) = (dir.join("a.csv"), dir.join("a.mcap"));
         let check = |files: &[(&str, &Path)], plot: Option<&Path>, input: Option<&Path>| {
-            check_paths(files, plot.map(|p| ("--plot", p)), input)
+            let files: Vec<_> = files.iter().map(|&(f, p)| (f, Some(p))).collect();
+            check_paths(&files, plot.map(|p| ("--plot", p)), input)
         };
         assert!(check(&[("--csv", &csv), ("--mcap", &mcap)], None, None).is_ok());
         // Same file twice, spelled differently.
