@@ -10,7 +10,7 @@
 //! the associated types; only what has no common operator (dot, cross,
 //! columns, quaternion product and rotation) is a trait function.
 
-use crate::Real;
+use crate::{Real, SimdReal};
 use core::fmt::Debug;
 use core::ops::{Add, Mul, Neg, Sub};
 
@@ -94,12 +94,160 @@ pub trait Backend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 's
     fn quat_rotate(q: Self::Quat, v: Self::Vec3) -> Self::Vec3;
 }
 
+/// A (linear-algebra library, scalar) pair whose scalar may be SIMD lanes
+/// ([`SimdReal`]): the primitives of [`Backend`] without its requirement
+/// that the scalar be one real number. The formulas that never stop on an
+/// error (exp, log, the Jacobians, compose, act) are written over this
+/// trait, their branches as lane-wise selects, so one formula serves the
+/// scalar backends (every [`Backend`] is a `SimdBackend`, by the blanket
+/// impl below) and the lane backends (`NalgebraF64x4`, `NalgebraF32x8`,
+/// feature `simd`) alike. Code for `f32`/`f64` only keeps writing
+/// `B: Backend`, and needs no other import.
+pub trait SimdBackend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 'static {
+    /// The scalar: `f32`, `f64`, or lanes of them.
+    type Scalar: SimdReal;
+    /// The library's 3-vector.
+    type Vec3: Copy
+        + Debug
+        + PartialEq
+        + Send
+        + Sync
+        + Add<Output = Self::Vec3>
+        + Sub<Output = Self::Vec3>
+        + Neg<Output = Self::Vec3>
+        + Mul<Self::Scalar, Output = Self::Vec3>;
+    /// The library's 3×3 matrix.
+    type Mat3: Copy
+        + Debug
+        + PartialEq
+        + Send
+        + Sync
+        + Add<Output = Self::Mat3>
+        + Sub<Output = Self::Mat3>
+        + Mul<Self::Mat3, Output = Self::Mat3>
+        + Mul<Self::Vec3, Output = Self::Vec3>
+        + Mul<Self::Scalar, Output = Self::Mat3>;
+    /// The library's quaternion (assumed unit wherever it is used here).
+    type Quat: Copy + Debug + PartialEq + Send + Sync;
+
+    /// Short name used in reports and test names, e.g. `"glam-f32"`.
+    const NAME: &'static str;
+
+    /// Builds a vector from components.
+    fn vec3(x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self::Vec3;
+    /// Components of a vector.
+    fn vec3_to_array(v: Self::Vec3) -> [Self::Scalar; 3];
+    /// Dot product.
+    fn dot(a: Self::Vec3, b: Self::Vec3) -> Self::Scalar;
+    /// Cross product.
+    fn cross(a: Self::Vec3, b: Self::Vec3) -> Self::Vec3;
+    /// Builds a matrix from its three columns.
+    fn mat3_from_cols(c0: Self::Vec3, c1: Self::Vec3, c2: Self::Vec3) -> Self::Mat3;
+    /// The three columns of a matrix.
+    fn mat3_cols(m: Self::Mat3) -> [Self::Vec3; 3];
+    /// Transpose.
+    fn mat3_transpose(m: Self::Mat3) -> Self::Mat3;
+    /// The transpose times a vector, `mᵀ v`, without forming `mᵀ`.
+    fn mat3_tr_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3;
+    /// Builds a quaternion `w + x i + y j + z k`.
+    fn quat_from_wxyz(
+        w: Self::Scalar,
+        x: Self::Scalar,
+        y: Self::Scalar,
+        z: Self::Scalar,
+    ) -> Self::Quat;
+    /// Components `[w, x, y, z]`.
+    fn quat_to_wxyz(q: Self::Quat) -> [Self::Scalar; 4];
+    /// Hamilton product `a ⊗ b`.
+    fn quat_mul(a: Self::Quat, b: Self::Quat) -> Self::Quat;
+    /// Conjugate (the inverse of a unit quaternion).
+    fn quat_conj(q: Self::Quat) -> Self::Quat;
+    /// Rotates a vector by a unit quaternion, `q v q*`.
+    fn quat_rotate(q: Self::Quat, v: Self::Vec3) -> Self::Vec3;
+}
+
+// Forwarding only: a scalar backend's primitives are its `Backend` ones,
+// so `NalgebraF64::vec3` needs only `Backend` in scope, as before lanes.
+impl<B: Backend> SimdBackend for B {
+    type Scalar = <B as Backend>::Scalar;
+    type Vec3 = <B as Backend>::Vec3;
+    type Mat3 = <B as Backend>::Mat3;
+    type Quat = <B as Backend>::Quat;
+    const NAME: &'static str = <B as Backend>::NAME;
+
+    #[inline(always)]
+    fn vec3(
+        x: <B as Backend>::Scalar,
+        y: <B as Backend>::Scalar,
+        z: <B as Backend>::Scalar,
+    ) -> <B as Backend>::Vec3 {
+        <B as Backend>::vec3(x, y, z)
+    }
+    #[inline(always)]
+    fn vec3_to_array(v: <B as Backend>::Vec3) -> [<B as Backend>::Scalar; 3] {
+        <B as Backend>::vec3_to_array(v)
+    }
+    #[inline(always)]
+    fn dot(a: <B as Backend>::Vec3, b: <B as Backend>::Vec3) -> <B as Backend>::Scalar {
+        <B as Backend>::dot(a, b)
+    }
+    #[inline(always)]
+    fn cross(a: <B as Backend>::Vec3, b: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
+        <B as Backend>::cross(a, b)
+    }
+    #[inline(always)]
+    fn mat3_from_cols(
+        c0: <B as Backend>::Vec3,
+        c1: <B as Backend>::Vec3,
+        c2: <B as Backend>::Vec3,
+    ) -> <B as Backend>::Mat3 {
+        <B as Backend>::mat3_from_cols(c0, c1, c2)
+    }
+    #[inline(always)]
+    fn mat3_cols(m: <B as Backend>::Mat3) -> [<B as Backend>::Vec3; 3] {
+        <B as Backend>::mat3_cols(m)
+    }
+    #[inline(always)]
+    fn mat3_transpose(m: <B as Backend>::Mat3) -> <B as Backend>::Mat3 {
+        <B as Backend>::mat3_transpose(m)
+    }
+    #[inline(always)]
+    fn mat3_tr_mul_vec(m: <B as Backend>::Mat3, v: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
+        <B as Backend>::mat3_tr_mul_vec(m, v)
+    }
+    #[inline(always)]
+    fn quat_from_wxyz(
+        w: <B as Backend>::Scalar,
+        x: <B as Backend>::Scalar,
+        y: <B as Backend>::Scalar,
+        z: <B as Backend>::Scalar,
+    ) -> <B as Backend>::Quat {
+        <B as Backend>::quat_from_wxyz(w, x, y, z)
+    }
+    #[inline(always)]
+    fn quat_to_wxyz(q: <B as Backend>::Quat) -> [<B as Backend>::Scalar; 4] {
+        <B as Backend>::quat_to_wxyz(q)
+    }
+    #[inline(always)]
+    fn quat_mul(a: <B as Backend>::Quat, b: <B as Backend>::Quat) -> <B as Backend>::Quat {
+        <B as Backend>::quat_mul(a, b)
+    }
+    #[inline(always)]
+    fn quat_conj(q: <B as Backend>::Quat) -> <B as Backend>::Quat {
+        <B as Backend>::quat_conj(q)
+    }
+    #[inline(always)]
+    fn quat_rotate(q: <B as Backend>::Quat, v: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
+        <B as Backend>::quat_rotate(q, v)
+    }
+}
+
 /// Scalar alias for a backend.
-pub type S<B> = <B as Backend>::Scalar;
+pub type S<B> = <B as SimdBackend>::Scalar;
 /// Vector alias for a backend.
-pub type V3<B> = <B as Backend>::Vec3;
+pub type V3<B> = <B as SimdBackend>::Vec3;
 /// Matrix alias for a backend.
-pub type M3<B> = <B as Backend>::Mat3;
+pub type M3<B> = <B as SimdBackend>::Mat3;
 
 /// Derived helpers written once on top of the [`Backend`] primitives, public
 /// so that downstream crates (dynamics, integrators) share one definition
@@ -110,23 +258,23 @@ pub mod ops {
 
     /// The zero vector.
     #[inline(always)]
-    pub fn zero<B: Backend>() -> V3<B> {
+    pub fn zero<B: SimdBackend>() -> V3<B> {
         let z = S::<B>::zero();
         B::vec3(z, z, z)
     }
     /// Euclidean norm.
     #[inline(always)]
-    pub fn norm<B: Backend>(v: V3<B>) -> S<B> {
-        B::dot(v, v).sqrt()
+    pub fn norm<B: SimdBackend>(v: V3<B>) -> S<B> {
+        B::dot(v, v).simd_sqrt()
     }
     /// The 3×3 identity.
     #[inline(always)]
-    pub fn identity<B: Backend>() -> M3<B> {
+    pub fn identity<B: SimdBackend>() -> M3<B> {
         diag::<B>(S::<B>::one(), S::<B>::one(), S::<B>::one())
     }
     /// Diagonal matrix `diag(a, b, c)`.
     #[inline(always)]
-    pub fn diag<B: Backend>(a: S<B>, b: S<B>, c: S<B>) -> M3<B> {
+    pub fn diag<B: SimdBackend>(a: S<B>, b: S<B>, c: S<B>) -> M3<B> {
         let z = S::<B>::zero();
         B::mat3_from_cols(B::vec3(a, z, z), B::vec3(z, b, z), B::vec3(z, z, c))
     }
@@ -144,7 +292,7 @@ pub mod ops {
     }
     /// Elements, indexed `[row][col]`.
     #[inline(always)]
-    pub fn elems<B: Backend>(m: M3<B>) -> [[S<B>; 3]; 3] {
+    pub fn elems<B: SimdBackend>(m: M3<B>) -> [[S<B>; 3]; 3] {
         let [c0, c1, c2] = B::mat3_cols(m);
         let (a, b, c) = (
             B::vec3_to_array(c0),
@@ -155,7 +303,7 @@ pub mod ops {
     }
     /// Builds from elements indexed `[row][col]`.
     #[inline(always)]
-    pub fn from_elems<B: Backend>(e: [[S<B>; 3]; 3]) -> M3<B> {
+    pub fn from_elems<B: SimdBackend>(e: [[S<B>; 3]; 3]) -> M3<B> {
         B::mat3_from_cols(
             B::vec3(e[0][0], e[1][0], e[2][0]),
             B::vec3(e[0][1], e[1][1], e[2][1]),
@@ -164,15 +312,15 @@ pub mod ops {
     }
     /// Frobenius inner product `tr(aᵀ b)`.
     #[inline(always)]
-    pub fn frob_dot<B: Backend>(a: M3<B>, b: M3<B>) -> S<B> {
+    pub fn frob_dot<B: SimdBackend>(a: M3<B>, b: M3<B>) -> S<B> {
         let [a0, a1, a2] = B::mat3_cols(a);
         let [b0, b1, b2] = B::mat3_cols(b);
         B::dot(a0, b0) + B::dot(a1, b1) + B::dot(a2, b2)
     }
     /// Frobenius norm.
     #[inline(always)]
-    pub fn frob_norm<B: Backend>(a: M3<B>) -> S<B> {
-        frob_dot::<B>(a, a).sqrt()
+    pub fn frob_norm<B: SimdBackend>(a: M3<B>) -> S<B> {
+        frob_dot::<B>(a, a).simd_sqrt()
     }
     /// True when no component is NaN or ±∞.
     #[inline(always)]
@@ -190,7 +338,7 @@ pub mod ops {
     }
     /// Determinant.
     #[inline(always)]
-    pub fn det<B: Backend>(m: M3<B>) -> S<B> {
+    pub fn det<B: SimdBackend>(m: M3<B>) -> S<B> {
         let [c0, c1, c2] = B::mat3_cols(m);
         B::dot(c0, B::cross(c1, c2))
     }

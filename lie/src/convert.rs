@@ -3,60 +3,75 @@
 //! of a unit quaternion, and the distance of a matrix from orthogonality.
 //! `so3` and `quat` sit above this module and not above each other.
 
-use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, M3, S, V3};
-use num_traits::{Float, One, Zero};
+use crate::{M3, Real, S, SimdBackend, SimdReal, V3};
+use num_traits::{One, Zero};
 
 /// Quaternion `[w, x, y, z]` (not normalised) of a rotation matrix by
 /// Shepperd's method: the pivot is the largest of `tr R, R11, R22, R33`, so
 /// the square root is taken of a number ≥ 1 and no component is divided by
 /// a small one. Near angle π the trace-only formula would divide by `w ≈ 0`.
 #[inline]
-pub fn shepperd<B: Backend>(m: M3<B>) -> [S<B>; 4] {
+pub fn shepperd<B: SimdBackend>(m: M3<B>) -> [S<B>; 4] {
     let e = ops::elems::<B>(m);
     let one = S::<B>::one();
-    let quarter = S::<B>::lit(0.25);
-    let half = S::<B>::lit(0.5);
+    let quarter = S::<B>::simd_lit(0.25);
+    let half = S::<B>::simd_lit(0.5);
     let (m00, m11, m22) = (e[0][0], e[1][1], e[2][2]);
     let tr = m00 + m11 + m22;
-    if tr >= m00 && tr >= m11 && tr >= m22 {
-        let w = half * (one + tr).sqrt();
-        let k = quarter / w;
-        [
-            w,
-            (e[2][1] - e[1][2]) * k,
-            (e[0][2] - e[2][0]) * k,
-            (e[1][0] - e[0][1]) * k,
-        ]
-    } else if m00 >= m11 && m00 >= m22 {
-        let x = half * (one + m00 - m11 - m22).sqrt();
-        let k = quarter / x;
-        [
-            (e[2][1] - e[1][2]) * k,
-            x,
-            (e[0][1] + e[1][0]) * k,
-            (e[0][2] + e[2][0]) * k,
-        ]
-    } else if m11 >= m22 {
-        let y = half * (one - m00 + m11 - m22).sqrt();
-        let k = quarter / y;
-        [
-            (e[0][2] - e[2][0]) * k,
-            (e[0][1] + e[1][0]) * k,
-            y,
-            (e[1][2] + e[2][1]) * k,
-        ]
-    } else {
-        let z = half * (one - m00 - m11 + m22).sqrt();
-        let k = quarter / z;
-        [
-            (e[1][0] - e[0][1]) * k,
-            (e[0][2] + e[2][0]) * k,
-            (e[1][2] + e[2][1]) * k,
-            z,
-        ]
-    }
+    S::<B>::simd_branch(
+        tr.simd_ge(m00) & tr.simd_ge(m11) & tr.simd_ge(m22),
+        || {
+            let w = half * (one + tr).simd_sqrt();
+            let k = quarter / w;
+            [
+                w,
+                (e[2][1] - e[1][2]) * k,
+                (e[0][2] - e[2][0]) * k,
+                (e[1][0] - e[0][1]) * k,
+            ]
+        },
+        || {
+            S::<B>::simd_branch(
+                m00.simd_ge(m11) & m00.simd_ge(m22),
+                || {
+                    let x = half * (one + m00 - m11 - m22).simd_sqrt();
+                    let k = quarter / x;
+                    [
+                        (e[2][1] - e[1][2]) * k,
+                        x,
+                        (e[0][1] + e[1][0]) * k,
+                        (e[0][2] + e[2][0]) * k,
+                    ]
+                },
+                || {
+                    S::<B>::simd_branch(
+                        m11.simd_ge(m22),
+                        || {
+                            let y = half * (one - m00 + m11 - m22).simd_sqrt();
+                            let k = quarter / y;
+                            [
+                                (e[0][2] - e[2][0]) * k,
+                                (e[0][1] + e[1][0]) * k,
+                                y,
+                                (e[1][2] + e[2][1]) * k,
+                            ]
+                        },
+                        || {
+                            let z = half * (one - m00 - m11 + m22).simd_sqrt();
+                            let k = quarter / z;
+                            [
+                                (e[1][0] - e[0][1]) * k,
+                                (e[0][2] + e[2][0]) * k,
+                                (e[1][2] + e[2][1]) * k,
+                                z,
+                            ]
+                        },
+                    )
+                },
+            )
+        },
+    )
 }
 
 /// Logarithm of a unit quaternion given as `[w, x, y, z]`.
@@ -71,21 +86,27 @@ pub fn shepperd<B: Backend>(m: M3<B>) -> [S<B>; 4] {
 /// each). At exactly π (`w = 0`) the result has length π and either sign
 /// of the axis is correct.
 #[inline]
-pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
-    let [mut w, mut x, mut y, mut z] = q;
-    if w < S::<B>::zero() {
-        (w, x, y, z) = (-w, -x, -y, -z);
-    }
+pub fn log_wxyz<B: SimdBackend>(q: [S<B>; 4]) -> V3<B> {
+    let [w, x, y, z] = q;
+    let [w, x, y, z] = S::<B>::simd_branch(
+        w.simd_lt(S::<B>::zero()),
+        || [-w, -x, -y, -z],
+        || [w, x, y, z],
+    );
     let n2 = x * x + y * y + z * z;
-    let n = n2.sqrt();
-    let two = S::<B>::lit(2.0);
-    let k = if n < S::<B>::CUT_LOG {
-        two + n2 * S::<B>::lit(1.0 / 3.0)
-    } else if n < w {
-        two * n.asin() / n
-    } else {
-        two * w.acos() / n
-    };
+    let n = n2.simd_sqrt();
+    let two = S::<B>::simd_lit(2.0);
+    let [k] = S::<B>::simd_branch(
+        n.simd_lt(S::<B>::simd_splat(<S<B> as SimdReal>::Element::CUT_LOG)),
+        || [two + n2 * S::<B>::simd_lit(1.0 / 3.0)],
+        || {
+            S::<B>::simd_branch(
+                n.simd_lt(w),
+                || [two * n.simd_asin() / n],
+                || [two * w.simd_acos() / n],
+            )
+        },
+    );
     B::vec3(x * k, y * k, z * k)
 }
 
@@ -101,35 +122,36 @@ pub fn log_wxyz<B: Backend>(q: [S<B>; 4]) -> V3<B> {
 /// Shepperd's quaternion, where a diagonal pivot keeps the axis accurate up
 /// to π (`u` vanishes there).
 #[inline]
-pub fn log_matrix<B: Backend>(m: M3<B>) -> V3<B> {
+pub fn log_matrix<B: SimdBackend>(m: M3<B>) -> V3<B> {
     let e = ops::elems::<B>(m);
     let c2 = e[0][0] + e[1][1] + e[2][2] - S::<B>::one();
     let (ux, uy, uz) = (e[2][1] - e[1][2], e[0][2] - e[2][0], e[1][0] - e[0][1]);
     let s2 = ux * ux + uy * uy + uz * uz;
-    let s = s2.sqrt();
-    let half = S::<B>::lit(0.5);
-    if c2 < S::<B>::lit(-1.0) {
+    let s = s2.simd_sqrt();
+    let half = S::<B>::simd_lit(0.5);
+    let [x, y, z] = S::<B>::simd_branch(
+        c2.simd_lt(S::<B>::simd_lit(-1.0)),
         // Rebuilt here from the elements already read, so that only this
         // rare branch writes a copy for the call to point at (passing `m`
         // made every call copy the whole matrix first).
-        let [x, y, z] = log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e));
-        return B::vec3(x, y, z);
-    }
-    // k = θ/(2 sin θ), so that φ = k u.
-    let k = if s < S::<B>::CUT_LOG {
-        half + s2 * S::<B>::lit(1.0 / 48.0)
-    } else {
-        let small = c2 > S::<B>::lit(core::f64::consts::SQRT_2);
-        let inv = S::<B>::one() / s;
-        let a = (if small { s } else { c2 } * half).asin();
-        let theta = if small {
-            a
-        } else {
-            S::<B>::lit(core::f64::consts::FRAC_PI_2) - a
-        };
-        theta * inv
-    };
-    B::vec3(ux * k, uy * k, uz * k)
+        || log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e)),
+        || {
+            // k = θ/(2 sin θ), so that φ = k u.
+            let [k] = S::<B>::simd_branch(
+                s.simd_lt(S::<B>::simd_splat(<S<B> as SimdReal>::Element::CUT_LOG)),
+                || [half + s2 * S::<B>::simd_lit(1.0 / 48.0)],
+                || {
+                    let small = c2.simd_gt(S::<B>::simd_lit(core::f64::consts::SQRT_2));
+                    let inv = S::<B>::one() / s;
+                    let a = (S::<B>::simd_select(small, s, c2) * half).simd_asin();
+                    let quarter_turn = S::<B>::simd_lit(core::f64::consts::FRAC_PI_2);
+                    [S::<B>::simd_select(small, a, quarter_turn - a) * inv]
+                },
+            );
+            [ux * k, uy * k, uz * k]
+        },
+    );
+    B::vec3(x, y, z)
 }
 
 /// [`log_matrix`] beyond 2π/3, kept out of line: inlined, its quaternion
@@ -139,16 +161,16 @@ pub fn log_matrix<B: Backend>(m: M3<B>) -> V3<B> {
 /// `f64` one is written straight where the caller wants it.
 #[inline(never)]
 #[cold]
-fn log_beyond_two_thirds_pi<B: Backend>(m: &M3<B>) -> [S<B>; 3] {
+fn log_beyond_two_thirds_pi<B: SimdBackend>(m: &M3<B>) -> [S<B>; 3] {
     B::vec3_to_array(log_wxyz::<B>(shepperd::<B>(*m)))
 }
 
 /// The rotation matrix of a unit quaternion.
 #[inline]
-pub fn to_matrix<B: Backend>(q: B::Quat) -> M3<B> {
+pub fn to_matrix<B: SimdBackend>(q: B::Quat) -> M3<B> {
     let [w, x, y, z] = B::quat_to_wxyz(q);
     let one = S::<B>::one();
-    let two = S::<B>::lit(2.0);
+    let two = S::<B>::simd_lit(2.0);
     let (xx, yy, zz) = (x * x, y * y, z * z);
     let (xy, xz, yz) = (x * y, x * z, y * z);
     let (wx, wy, wz) = (w * x, w * y, w * z);
@@ -161,6 +183,6 @@ pub fn to_matrix<B: Backend>(q: B::Quat) -> M3<B> {
 
 /// `‖RᵀR − I‖_F`, the distance of a matrix from orthogonality.
 #[inline]
-pub fn orthogonality_error<B: Backend>(m: M3<B>) -> S<B> {
+pub fn orthogonality_error<B: SimdBackend>(m: M3<B>) -> S<B> {
     ops::frob_norm::<B>(B::mat3_transpose(m) * m - ops::identity::<B>())
 }

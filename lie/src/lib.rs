@@ -81,9 +81,12 @@ mod backend;
 mod bundle;
 mod convert;
 mod group;
+mod simd;
 mod backends {
     #[cfg(feature = "glam")]
     pub mod glam;
+    #[cfg(feature = "simd")]
+    pub mod lanes;
     #[cfg(feature = "nalgebra")]
     pub mod nalgebra;
 }
@@ -94,11 +97,13 @@ mod se3;
 pub mod series;
 pub mod so3;
 
-pub use backend::{Backend, M3, S, V3, ops};
+pub use backend::{Backend, M3, S, SimdBackend, V3, ops};
 #[cfg(feature = "glam")]
 pub use backends::glam::{GlamF32, GlamF32A, GlamF64};
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
+#[cfg(feature = "simd")]
+pub use backends::nalgebra::{NalgebraF32x8, NalgebraF64x4};
 pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
 pub use convert::{log_matrix, log_wxyz, shepperd};
 pub use group::{LieGroup, Matrix3x6, mul6};
@@ -107,6 +112,9 @@ pub use quat::So3Quat;
 pub use real::Real;
 pub use rotation::{Rotation, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian, se3_left_jacobian_inv};
+#[cfg(feature = "simd")]
+pub use simba::simd::{WideF32x8, WideF64x4};
+pub use simd::{SimdMask, SimdReal};
 pub use so3::{
     So3Mat, hat, left_jacobian, left_jacobian_inv, orthogonality_error, right_jacobian,
     right_jacobian_inv, vee,

@@ -4,7 +4,7 @@
 use crate::Real as _;
 use crate::backend::ops;
 use crate::convert::{log_wxyz, shepperd, to_matrix};
-use crate::{Backend, M3, Rotation, S, V3, series};
+use crate::{Backend, M3, Rotation, S, SimdBackend, V3, series};
 use num_traits::{Float, One, Zero};
 
 /// A rotation stored as a unit quaternion of the backend's own type
@@ -14,9 +14,9 @@ use num_traits::{Float, One, Zero};
 /// product; call [`Rotation::normalized`] every few thousand products in
 /// f32 (the test suite measures the drift).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct So3Quat<B: Backend>(pub(crate) B::Quat);
+pub struct So3Quat<B: SimdBackend>(pub(crate) B::Quat);
 
-impl<B: Backend> So3Quat<B> {
+impl<B: SimdBackend> So3Quat<B> {
     /// Wraps a quaternion the caller knows to have unit norm.
     #[inline]
     pub fn from_quaternion_unchecked(q: B::Quat) -> Self {
@@ -30,8 +30,8 @@ impl<B: Backend> So3Quat<B> {
 
 /// The group operations (also [`LieGroup`](crate::LieGroup)'s, which calls these): inherent,
 /// so that a concrete rotation needs no trait in scope and never meets two
-/// traits' methods of the same name.
-impl<B: Backend> So3Quat<B> {
+/// traits' methods of the same name. On lane backends too (`simd`).
+impl<B: SimdBackend> So3Quat<B> {
     /// The identity rotation.
     #[inline]
     pub fn identity() -> Self {
@@ -125,7 +125,7 @@ impl<B: Backend> Rotation<B> for So3Quat<B> {
     }
 }
 
-impl<B: Backend> core::ops::Mul for So3Quat<B> {
+impl<B: SimdBackend> core::ops::Mul for So3Quat<B> {
     type Output = Self;
     #[inline]
     fn mul(self, rhs: Self) -> Self {

@@ -1,6 +1,7 @@
 //! The scalar bound shared by every formula, and the per-precision constants
 //! (Taylor cut-offs) that the numerically delicate formulas switch on.
 
+use crate::SimdReal;
 use core::fmt::{Debug, Display};
 use core::ops::{AddAssign, DivAssign, MulAssign, SubAssign};
 use num_traits::{Float, FloatConst};
@@ -28,7 +29,8 @@ use num_traits::{Float, FloatConst};
 /// assert!((half_versine_ratio(1e-3f32).to_f64_lossless() - 0.5).abs() < 1e-6);
 /// ```
 pub trait Real:
-    Float
+    SimdReal<Element = Self, Mask = bool>
+    + Float
     + FloatConst
     + Debug
     + Display

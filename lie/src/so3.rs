@@ -8,12 +8,12 @@
 
 use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, LieError, M3, Rotation, S, V3, convert, series};
+use crate::{Backend, LieError, M3, Rotation, S, SimdBackend, SimdReal as _, V3, convert, series};
 use num_traits::{Float, One, Zero};
 
 /// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
 #[inline]
-pub fn hat<B: Backend>(x: V3<B>) -> M3<B> {
+pub fn hat<B: SimdBackend>(x: V3<B>) -> M3<B> {
     let [a, b, c] = B::vec3_to_array(x);
     let z = S::<B>::zero();
     B::mat3_from_cols(B::vec3(z, c, -b), B::vec3(-c, z, a), B::vec3(b, -a, z))
@@ -23,9 +23,9 @@ pub fn hat<B: Backend>(x: V3<B>) -> M3<B> {
 /// `½(m − mᵀ)`, so it is exact for skew input and the least-squares answer
 /// otherwise.
 #[inline]
-pub fn vee<B: Backend>(m: M3<B>) -> V3<B> {
+pub fn vee<B: SimdBackend>(m: M3<B>) -> V3<B> {
     let e = ops::elems::<B>(m);
-    let h = S::<B>::lit(0.5);
+    let h = S::<B>::simd_lit(0.5);
     B::vec3(
         h * (e[2][1] - e[1][2]),
         h * (e[0][2] - e[2][0]),
@@ -37,7 +37,7 @@ pub fn vee<B: Backend>(m: M3<B>) -> V3<B> {
 /// (exp, both Jacobians and their inverses) has this shape once `φ^²` is
 /// written as `φ φᵀ − θ² I`.
 #[inline(always)]
-pub(crate) fn rodrigues<B: Backend>(a0: S<B>, a1: S<B>, a2: S<B>, phi: V3<B>) -> M3<B> {
+pub(crate) fn rodrigues<B: SimdBackend>(a0: S<B>, a1: S<B>, a2: S<B>, phi: V3<B>) -> M3<B> {
     let [x, y, z] = B::vec3_to_array(phi);
     let (xy, xz, yz) = (a2 * x * y, a2 * x * z, a2 * y * z);
     let (sx, sy, sz) = (a1 * x, a1 * y, a1 * z);
@@ -50,7 +50,7 @@ pub(crate) fn rodrigues<B: Backend>(a0: S<B>, a1: S<B>, a2: S<B>, phi: V3<B>) ->
 
 /// The left Jacobian `J_l(φ) = I + B φ^ + C φ^²` (series near zero).
 #[inline]
-pub fn left_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
+pub fn left_jacobian<B: SimdBackend>(phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
     let (a, b, _) = series::exp_coeffs(theta);
     rodrigues::<B>(a, b, series::c_coeff(theta), phi)
@@ -58,7 +58,7 @@ pub fn left_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
 
 /// The right Jacobian `J_r(φ) = J_l(−φ)`.
 #[inline]
-pub fn right_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
+pub fn right_jacobian<B: SimdBackend>(phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
     let (a, b, _) = series::exp_coeffs(theta);
     rodrigues::<B>(a, -b, series::c_coeff(theta), phi)
@@ -66,19 +66,29 @@ pub fn right_jacobian<B: Backend>(phi: V3<B>) -> M3<B> {
 
 /// `J_l⁻¹(φ) = I − ½ φ^ + D φ^²`; finite for `|φ| < 2π`.
 #[inline]
-pub fn left_jacobian_inv<B: Backend>(phi: V3<B>) -> M3<B> {
+pub fn left_jacobian_inv<B: SimdBackend>(phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
     let d = series::d_coeff(theta);
-    rodrigues::<B>(S::<B>::one() - d * theta * theta, S::<B>::lit(-0.5), d, phi)
+    rodrigues::<B>(
+        S::<B>::one() - d * theta * theta,
+        S::<B>::simd_lit(-0.5),
+        d,
+        phi,
+    )
 }
 
 /// `J_r⁻¹(φ) = I + ½ φ^ + D φ^²`; the `dexp⁻¹` of Runge–Kutta–Munthe-Kaas
 /// methods in the right-trivialised form `u̇ = J_r⁻¹(u) Ω`.
 #[inline]
-pub fn right_jacobian_inv<B: Backend>(phi: V3<B>) -> M3<B> {
+pub fn right_jacobian_inv<B: SimdBackend>(phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
     let d = series::d_coeff(theta);
-    rodrigues::<B>(S::<B>::one() - d * theta * theta, S::<B>::lit(0.5), d, phi)
+    rodrigues::<B>(
+        S::<B>::one() - d * theta * theta,
+        S::<B>::simd_lit(0.5),
+        d,
+        phi,
+    )
 }
 
 pub use crate::convert::orthogonality_error;
@@ -90,7 +100,7 @@ pub use crate::convert::orthogonality_error;
 /// user's glam or nalgebra code for free; [`So3Mat::project`] is the checked
 /// way in.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct So3Mat<B: Backend>(pub(crate) M3<B>);
+pub struct So3Mat<B: SimdBackend>(pub(crate) M3<B>);
 
 impl<B: Backend> So3Mat<B> {
     /// Wraps a matrix the caller knows to be a rotation.
@@ -161,8 +171,8 @@ impl<B: Backend> So3Mat<B> {
 
 /// The group operations (also [`LieGroup`](crate::LieGroup)'s, which calls these): inherent,
 /// so that a concrete rotation needs no trait in scope and never meets two
-/// traits' methods of the same name.
-impl<B: Backend> So3Mat<B> {
+/// traits' methods of the same name. On lane backends too (`simd`).
+impl<B: SimdBackend> So3Mat<B> {
     /// The identity rotation.
     #[inline]
     pub fn identity() -> Self {
@@ -270,7 +280,7 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     }
 }
 
-impl<B: Backend> core::ops::Mul for So3Mat<B> {
+impl<B: SimdBackend> core::ops::Mul for So3Mat<B> {
     type Output = Self;
     #[inline]
     fn mul(self, rhs: Self) -> Self {

@@ -1,15 +1,17 @@
 //! The nalgebra backend: `Vector3<T>`, `Matrix3<T>` and `UnitQuaternion<T>`.
 
 use crate::Backend;
+#[cfg(feature = "simd")]
+use crate::SimdBackend;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 macro_rules! nalgebra_backend {
-    ($(#[$doc:meta])* $name:ident, $s:ty, $label:literal) => {
+    ($(#[$doc:meta])* $name:ident, $trait:ident, $s:ty, $label:literal) => {
         $(#[$doc])*
         #[derive(Copy, Clone, Default, Debug, PartialEq, Eq, Hash)]
         pub struct $name;
 
-        impl Backend for $name {
+        impl $trait for $name {
             type Scalar = $s;
             type Vec3 = Vector3<$s>;
             type Mat3 = Matrix3<$s>;
@@ -78,9 +80,21 @@ macro_rules! nalgebra_backend {
 
 nalgebra_backend!(
     /// nalgebra with `f32`: `Vector3<f32>`, `Matrix3<f32>`, `UnitQuaternion<f32>`.
-    NalgebraF32, f32, "nalgebra-f32"
+    NalgebraF32, Backend, f32, "nalgebra-f32"
 );
 nalgebra_backend!(
     /// nalgebra with `f64`: `Vector3<f64>`, `Matrix3<f64>`, `UnitQuaternion<f64>`.
-    NalgebraF64, f64, "nalgebra-f64"
+    NalgebraF64, Backend, f64, "nalgebra-f64"
+);
+#[cfg(feature = "simd")]
+nalgebra_backend!(
+    /// nalgebra on four `f64` lanes (feature `simd`): a `Vector3<WideF64x4>`
+    /// is four 3-vectors, one per lane.
+    NalgebraF64x4, SimdBackend, simba::simd::WideF64x4, "nalgebra-f64x4"
+);
+#[cfg(feature = "simd")]
+nalgebra_backend!(
+    /// nalgebra on eight `f32` lanes (feature `simd`): a `Vector3<WideF32x8>`
+    /// is eight 3-vectors, one per lane.
+    NalgebraF32x8, SimdBackend, simba::simd::WideF32x8, "nalgebra-f32x8"
 );
