@@ -32,6 +32,12 @@ impl<B: SimdBackend> So3Quat<B> {
 /// so that a concrete rotation needs no trait in scope and never meets two
 /// traits' methods of the same name. On lane backends too (`simd`).
 impl<B: SimdBackend> So3Quat<B> {
+    /// The unit quaternion (also [`Rotation::quaternion`]; inherent so
+    /// that lane backends, which have no [`Rotation`], reach it too).
+    #[inline]
+    pub fn quaternion(self) -> B::Quat {
+        self.0
+    }
     /// The identity rotation.
     #[inline]
     pub fn identity() -> Self {

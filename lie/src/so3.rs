@@ -178,6 +178,12 @@ impl<B: SimdBackend> So3Mat<B> {
     pub fn identity() -> Self {
         Self(ops::identity::<B>())
     }
+    /// The rotation matrix (also [`Rotation::matrix`]; inherent so that
+    /// lane backends, which have no [`Rotation`], reach it too).
+    #[inline]
+    pub fn matrix(self) -> M3<B> {
+        self.0
+    }
     /// `self ∘ rhs` (apply `rhs` first).
     #[inline]
     pub fn compose(self, rhs: Self) -> Self {
