@@ -76,7 +76,7 @@ fn shuffled(n: usize) -> Vec<[f64; 3]> {
         .find(|s| gcd(*s, len) == 1 && *s > len / 3)
         .unwrap_or(1);
     let mut out: Vec<[f64; 3]> = (0..len).map(|i| base[(i * stride) % len]).collect();
-    while out.len() % n != 0 {
+    while !out.len().is_multiple_of(n) {
         out.push(base[out.len() % len]);
     }
     out
