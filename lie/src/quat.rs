@@ -32,10 +32,10 @@ impl<B: SimdBackend> So3Quat<B> {
 /// so that a concrete rotation needs no trait in scope and never meets two
 /// traits' methods of the same name. On lane backends too (`simd`).
 impl<B: SimdBackend> So3Quat<B> {
-    /// The unit quaternion (also [`Rotation::quaternion`]; inherent so
-    /// that lane backends, which have no [`Rotation`], reach it too).
+    /// The unit quaternion: [`Rotation::quaternion`] under a name of its
+    /// own, for lane backends, which have no [`Rotation`].
     #[inline]
-    pub fn quaternion(self) -> B::Quat {
+    pub fn as_quaternion(self) -> B::Quat {
         self.0
     }
     /// The identity rotation.

@@ -178,10 +178,10 @@ impl<B: SimdBackend> So3Mat<B> {
     pub fn identity() -> Self {
         Self(ops::identity::<B>())
     }
-    /// The rotation matrix (also [`Rotation::matrix`]; inherent so that
-    /// lane backends, which have no [`Rotation`], reach it too).
+    /// The rotation matrix: [`Rotation::matrix`] under a name of its own,
+    /// for lane backends, which have no [`Rotation`].
     #[inline]
-    pub fn matrix(self) -> M3<B> {
+    pub fn as_matrix(self) -> M3<B> {
         self.0
     }
     /// `self ∘ rhs` (apply `rhs` first).

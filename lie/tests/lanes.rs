@@ -142,20 +142,20 @@ macro_rules! ops_of {
             fn(<$b as SimdBackend>::Vec3) -> Vec<<$b as SimdBackend>::Scalar>,
         ); 10] = [
             ("So3Mat::exp", |p| {
-                flat_mat::<$b>(So3Mat::<$b>::exp(p).matrix())
+                flat_mat::<$b>(So3Mat::<$b>::exp(p).as_matrix())
             }),
             ("So3Mat::log∘exp", |p| {
                 flat_vec::<$b>(So3Mat::<$b>::exp(p).log())
             }),
             ("So3Quat::exp", |p| {
-                let q = So3Quat::<$b>::exp(p).quaternion();
+                let q = So3Quat::<$b>::exp(p).as_quaternion();
                 <$b as SimdBackend>::quat_to_wxyz(q).to_vec()
             }),
             ("So3Quat::log∘exp", |p| {
                 flat_vec::<$b>(So3Quat::<$b>::exp(p).log())
             }),
             ("shepperd∘exp", |p| {
-                lie::shepperd::<$b>(So3Mat::<$b>::exp(p).matrix()).to_vec()
+                lie::shepperd::<$b>(So3Mat::<$b>::exp(p).as_matrix()).to_vec()
             }),
             ("J_l", |p| flat_mat::<$b>(left_jacobian::<$b>(p))),
             ("J_r", |p| flat_mat::<$b>(right_jacobian::<$b>(p))),
@@ -233,7 +233,7 @@ fn a_nan_lane_does_not_leak() {
         lane([-0.2, 0.3, 0.0, 0.05]),
     );
     for (name, out) in [
-        ("exp", flat_mat::<L>(So3Mat::<L>::exp(phi).matrix())),
+        ("exp", flat_mat::<L>(So3Mat::<L>::exp(phi).as_matrix())),
         ("log∘exp", flat_vec::<L>(So3Mat::<L>::exp(phi).log())),
         ("J_r⁻¹", flat_mat::<L>(right_jacobian_inv::<L>(phi))),
     ] {
