@@ -4,7 +4,7 @@
 //! `so3` and `quat` sit above this module and not above each other.
 
 use crate::backend::ops;
-use crate::{M3, Real, S, SimdBackend, SimdReal, V3};
+use crate::{M3, Real, S, SimdBackend, SimdMask, SimdReal, V3};
 use num_traits::{One, Zero};
 
 /// Quaternion `[w, x, y, z]` (not normalised) of a rotation matrix by
@@ -129,29 +129,35 @@ pub fn log_matrix<B: SimdBackend>(m: M3<B>) -> V3<B> {
     let s2 = ux * ux + uy * uy + uz * uz;
     let s = s2.simd_sqrt();
     let half = S::<B>::simd_lit(0.5);
-    let [x, y, z] = S::<B>::simd_branch(
-        c2.simd_lt(S::<B>::simd_lit(-1.0)),
-        // Rebuilt here from the elements already read, so that only this
-        // rare branch writes a copy for the call to point at (passing `m`
-        // made every call copy the whole matrix first).
-        || log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e)),
+    // Beyond 2π/3 in every lane (one lane: an early return). The matrix is
+    // rebuilt here from the elements already read, so that only this rare
+    // branch writes a copy for the call to point at (passing `m` made
+    // every call copy the whole matrix first).
+    let far = c2.simd_lt(S::<B>::simd_lit(-1.0));
+    if far.all() {
+        let [x, y, z] = log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e));
+        return B::vec3(x, y, z);
+    }
+    // k = θ/(2 sin θ), so that φ = k u.
+    let [k] = S::<B>::simd_branch(
+        s.simd_lt(S::<B>::simd_splat(<S<B> as SimdReal>::Element::CUT_LOG)),
+        || [half + s2 * S::<B>::simd_lit(1.0 / 48.0)],
         || {
-            // k = θ/(2 sin θ), so that φ = k u.
-            let [k] = S::<B>::simd_branch(
-                s.simd_lt(S::<B>::simd_splat(<S<B> as SimdReal>::Element::CUT_LOG)),
-                || [half + s2 * S::<B>::simd_lit(1.0 / 48.0)],
-                || {
-                    let small = c2.simd_gt(S::<B>::simd_lit(core::f64::consts::SQRT_2));
-                    let inv = S::<B>::one() / s;
-                    let a = (S::<B>::simd_select(small, s, c2) * half).simd_asin();
-                    let quarter_turn = S::<B>::simd_lit(core::f64::consts::FRAC_PI_2);
-                    [S::<B>::simd_select(small, a, quarter_turn - a) * inv]
-                },
-            );
-            [ux * k, uy * k, uz * k]
+            let small = c2.simd_gt(S::<B>::simd_lit(core::f64::consts::SQRT_2));
+            let inv = S::<B>::one() / s;
+            let a = (S::<B>::simd_select(small, s, c2) * half).simd_asin();
+            let quarter_turn = S::<B>::simd_lit(core::f64::consts::FRAC_PI_2);
+            [S::<B>::simd_select(small, a, quarter_turn - a) * inv]
         },
     );
-    B::vec3(x, y, z)
+    let near = [ux * k, uy * k, uz * k];
+    // Lanes only (for one lane `far` is false here): some lanes beyond.
+    if far.any() {
+        let beyond = log_beyond_two_thirds_pi::<B>(&ops::from_elems::<B>(e));
+        let [x, y, z] = core::array::from_fn(|i| S::<B>::simd_select(far, beyond[i], near[i]));
+        return B::vec3(x, y, z);
+    }
+    B::vec3(near[0], near[1], near[2])
 }
 
 /// [`log_matrix`] beyond 2π/3, kept out of line: inlined, its quaternion
