@@ -3,13 +3,13 @@
 
 use crate::vec::{cmul, is_finite};
 use crate::{ControlError, RigidBodyParams};
-use lie::{Backend, Real, Rotation, S, V3};
+use lie::{AttitudeErrors, Backend, Real, Rotation, S, V3};
 
 /// Attitude gains. The paper uses scalars; here `k_R`, `k_Ω`, `k_I` are
 /// diagonal (one value per body axis), as flight code often tunes yaw apart
 /// from roll and pitch. [`AttitudeGains::uniform`] gives the paper's form.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct AttitudeGains<B: Backend> {
+pub struct AttitudeGains<B: lie::SimdBackend> {
     /// `k_R` per body axis.
     pub k_r: V3<B>,
     /// `k_Ω` per body axis.
@@ -41,7 +41,7 @@ impl<B: Backend> AttitudeGains<B> {
 /// The desired attitude `R_d`, angular velocity `Ω_d` and its derivative
 /// `Ω̇_d` (both in the desired body frame, `Ṙ_d = R_d Ω_d^`).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct AttitudeReference<B: Backend, R: Rotation<B>> {
+pub struct AttitudeReference<B: lie::SimdBackend, R: AttitudeErrors<B>> {
     /// `R_d`.
     pub rd: R,
     /// `Ω_d`.
@@ -52,7 +52,7 @@ pub struct AttitudeReference<B: Backend, R: Rotation<B>> {
 
 /// What the attitude law computed.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct AttitudeOutput<B: Backend> {
+pub struct AttitudeOutput<B: lie::SimdBackend> {
     /// The moment `M` (body frame).
     pub moment: V3<B>,
     /// `e_R`.
@@ -83,7 +83,7 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
     e_i: V3<B>,
     reference: &AttitudeReference<B, R>,
 ) -> Result<AttitudeOutput<B>, ControlError> {
-    let out = attitude_core(params, gains, r, omega, e_i, reference);
+    let out = attitude_law(params, gains, r, omega, e_i, reference);
     if is_finite::<B>(out.moment) {
         return Ok(out);
     }
@@ -105,12 +105,17 @@ pub fn attitude_control<B: Backend, R: Rotation<B>>(
     })
 }
 
-/// (eqn:aM)/(eqn:M) without input checks; shared by both flight modes.
+/// The attitude law (eqn:aM) without input checks: what
+/// [`attitude_control`] and the position law (eqn:M) compute, on any
+/// backend, SIMD lanes included (`lie`'s `simd` feature: one call computes
+/// the moments of four or eight vehicles). A NaN or ±∞ in an input gives a
+/// NaN moment (in that lane only) instead of an error; call
+/// [`attitude_control`] for the checked law.
 ///
 /// `E = R_dᵀR` is formed once: `e_R` and `Ψ` are its skew part and trace,
 /// and the desired rates seen in the body frame are `Eᵀ Ω_d`, `Eᵀ Ω̇_d`.
 #[inline(always)]
-pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
+pub fn attitude_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     params: &RigidBodyParams<B>,
     gains: &AttitudeGains<B>,
     r: R,
@@ -119,7 +124,7 @@ pub(crate) fn attitude_core<B: Backend, R: Rotation<B>>(
     reference: &AttitudeReference<B, R>,
 ) -> AttitudeOutput<B> {
     let (rd, omega_d, omega_d_dot) = (reference.rd, reference.omega_d, reference.omega_d_dot);
-    let e = rd.inverse() * r;
+    let e = r.error_rotation(rd);
     let (e_r, psi) = e.errors_to_identity();
     // R^T R_d Ω_d and R^T R_d Ω̇_d: the desired rates seen in the body frame.
     let w = e.inverse_act(omega_d);
@@ -251,7 +256,7 @@ mod tests {
             };
             let (r, rd) = (So3Mat::<D>::exp(vv(t)), So3Mat::<D>::exp(vv(t + 1.0)));
             let args = (vv(t + 2.0), vv(t + 3.0) * 0.1, vv(t + 4.0), vv(t + 5.0));
-            let a = attitude_core(
+            let a = attitude_law(
                 &p,
                 &g,
                 r,

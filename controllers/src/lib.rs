@@ -66,7 +66,9 @@ pub mod paper;
 mod position_pid;
 mod vec;
 
-pub use attitude_pid::{AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control};
+pub use attitude_pid::{
+    AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control, attitude_law,
+};
 pub use gain_check::{GainBounds, GainCondition, GainReport, check_gains};
 pub use mode::{
     AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition, Mode,
@@ -82,7 +84,7 @@ use lie::{Backend, M3, Real, S};
 
 /// Mass, inertia and gravity as the controller knows them.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct RigidBodyParams<B: Backend> {
+pub struct RigidBodyParams<B: lie::SimdBackend> {
     /// Mass `m` (kg).
     pub mass: S<B>,
     /// Inertia `J` in the body frame (kg m²).

@@ -3,7 +3,7 @@
 //! obtained by differentiating `b3c` and `b1c` analytically, and the moment
 //! (eqn:M).
 
-use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_core};
+use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_law};
 #[cfg(test)]
 use crate::vec::unit_derivs;
 use crate::vec::{cmul, is_finite, norm, zero};
@@ -537,7 +537,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
     let omega_c_dot = B::vec3(b3_b2dd - w2 * w3, b1_b3dd - w3 * w1, -b1_b2dd + w1 * w2);
     let rc = R::from_matrix(B::mat3_from_cols(b1, b2, b3));
 
-    let att = attitude_core(
+    let att = attitude_law(
         params,
         att_gains,
         r,

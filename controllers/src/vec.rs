@@ -6,7 +6,7 @@ use lie::num_traits::Float;
 use lie::{Backend, Real, S, V3};
 
 #[inline(always)]
-pub(crate) fn cmul<B: Backend>(a: V3<B>, b: V3<B>) -> V3<B> {
+pub(crate) fn cmul<B: lie::SimdBackend>(a: V3<B>, b: V3<B>) -> V3<B> {
     let (a, b) = (B::vec3_to_array(a), B::vec3_to_array(b));
     B::vec3(a[0] * b[0], a[1] * b[1], a[2] * b[2])
 }

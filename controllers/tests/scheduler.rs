@@ -5,7 +5,7 @@
 //! thresholds, what `enter` zeroes), which no backend arithmetic touches.
 
 use controllers::*;
-use lie::{NalgebraF64 as B, Rotation, So3Mat};
+use lie::{NalgebraF64 as B, So3Mat};
 use nalgebra::Vector3;
 
 type V = Vector3<f64>;

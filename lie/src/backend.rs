@@ -10,7 +10,7 @@
 //! the associated types; only what has no common operator (dot, cross,
 //! columns, quaternion product and rotation) is a trait function.
 
-use crate::{Real, SimdReal};
+use crate::{Real, SimdMask, SimdReal};
 use core::fmt::Debug;
 use core::ops::{Add, Mul, Neg, Sub};
 
@@ -278,16 +278,17 @@ pub mod ops {
         let z = S::<B>::zero();
         B::mat3_from_cols(B::vec3(a, z, z), B::vec3(z, b, z), B::vec3(z, z, c))
     }
-    /// The diagonal of `m` when every off-diagonal element is zero: then
+    /// The diagonal of `m` when every off-diagonal element is zero (in
+    /// every lane, for a lane backend): then
     /// `m v` is the element-wise product of the diagonal and `v`, with the
     /// same values for finite `v` (the terms it skips are exact zeros).
     #[inline(always)]
-    pub fn diagonal<B: Backend>(m: M3<B>) -> Option<V3<B>> {
+    pub fn diagonal<B: SimdBackend>(m: M3<B>) -> Option<V3<B>> {
         let e = elems::<B>(m);
         let z = S::<B>::zero();
         let off = [e[0][1], e[0][2], e[1][0], e[1][2], e[2][0], e[2][1]];
         off.iter()
-            .all(|x| *x == z)
+            .all(|x| x.simd_eq(z).all())
             .then(|| B::vec3(e[0][0], e[1][1], e[2][2]))
     }
     /// Elements, indexed `[row][col]`.

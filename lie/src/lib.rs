@@ -81,6 +81,7 @@ mod backend;
 mod bundle;
 mod convert;
 mod group;
+pub mod lanes;
 mod simd;
 mod backends {
     #[cfg(feature = "glam")]
@@ -110,7 +111,7 @@ pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;
 pub use quat::So3Quat;
 pub use real::Real;
-pub use rotation::{Rotation, e_omega};
+pub use rotation::{AttitudeErrors, Rotation, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian, se3_left_jacobian_inv};
 #[cfg(feature = "simd")]
 pub use simba::simd::{WideF32x8, WideF64x4};
@@ -179,8 +180,8 @@ impl core::error::Error for LieError {}
 /// ```
 pub mod prelude {
     pub use crate::{
-        Backend, LieError, LieGroup, M3, Real, RigidState, RigidTangent, Rotation, S, Se3, So3Mat,
-        So3Quat, Twist, V3, ops,
+        AttitudeErrors, Backend, LieError, LieGroup, M3, Real, RigidState, RigidTangent, Rotation,
+        S, Se3, So3Mat, So3Quat, Twist, V3, ops,
     };
     #[cfg(feature = "glam")]
     pub use crate::{GlamF32, GlamF32A, GlamF64};

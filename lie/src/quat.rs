@@ -1,10 +1,9 @@
 //! SO(3) in the unit-quaternion representation (the conversions it shares
 //! with the matrix representation are in `convert`).
 
-use crate::Real as _;
 use crate::backend::ops;
 use crate::convert::{log_wxyz, shepperd, to_matrix};
-use crate::{Backend, M3, Rotation, S, SimdBackend, V3, series};
+use crate::{AttitudeErrors, Backend, M3, Rotation, S, SimdBackend, SimdReal as _, V3, series};
 use num_traits::{Float, One, Zero};
 
 /// A rotation stored as a unit quaternion of the backend's own type
@@ -75,13 +74,59 @@ impl<B: SimdBackend> So3Quat<B> {
     }
 }
 
+impl<B: SimdBackend> So3Quat<B> {
+    /// The vector part of `q_d* ⊗ q` (`self` is `q`) and its `w`.
+    #[inline]
+    fn error_wxyz(self, rd: Self) -> [S<B>; 4] {
+        B::quat_to_wxyz(B::quat_mul(B::quat_conj(rd.0), self.0))
+    }
+    #[inline]
+    fn psi_against(self, rd: Self) -> S<B> {
+        let [_, x, y, z] = self.error_wxyz(rd);
+        S::<B>::simd_lit(2.0) * (x * x + y * y + z * z)
+    }
+    #[inline]
+    fn e_r_against(self, rd: Self) -> V3<B> {
+        let [w, x, y, z] = self.error_wxyz(rd);
+        let k = S::<B>::simd_lit(2.0) * w;
+        B::vec3(x * k, y * k, z * k)
+    }
+}
+
+/// [`AttitudeErrors`]' operations, also inherent so that a concrete
+/// rotation needs no trait in scope for them.
+impl<B: SimdBackend> So3Quat<B> {
+    /// `Rᵀ v`, without forming the inverse.
+    #[inline]
+    pub fn inverse_act(self, v: V3<B>) -> V3<B> {
+        B::quat_rotate(B::quat_conj(self.0), v)
+    }
+    /// `(e_R, Ψ)` against the identity ([`AttitudeErrors::errors_to_identity`]).
+    #[inline]
+    pub fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        let id = Self::identity();
+        (self.e_r_against(id), self.psi_against(id))
+    }
+}
+
+impl<B: SimdBackend> AttitudeErrors<B> for So3Quat<B> {
+    #[inline]
+    fn error_rotation(self, rd: Self) -> Self {
+        rd.inverse().compose(self)
+    }
+    #[inline]
+    fn inverse_act(self, v: V3<B>) -> V3<B> {
+        So3Quat::inverse_act(self, v)
+    }
+    #[inline]
+    fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        So3Quat::errors_to_identity(self)
+    }
+}
+
 impl<B: Backend> Rotation<B> for So3Quat<B> {
     const REPR: &'static str = "quaternion";
 
-    #[inline]
-    fn inverse_act(self, v: V3<B>) -> V3<B> {
-        B::quat_rotate(B::quat_conj(self.0), v)
-    }
     #[inline]
     fn matrix(self) -> M3<B> {
         to_matrix::<B>(self.0)
@@ -106,15 +151,12 @@ impl<B: Backend> Rotation<B> for So3Quat<B> {
     /// cancellation near Ψ = 0, unlike `½(3 − tr)`.
     #[inline]
     fn psi(self, rd: Self) -> S<B> {
-        let [_, x, y, z] = B::quat_to_wxyz(B::quat_mul(B::quat_conj(rd.0), self.0));
-        S::<B>::lit(2.0) * (x * x + y * y + z * z)
+        self.psi_against(rd)
     }
     /// `e_R = sin θ · axis = 2 w q_v` of the error quaternion `q_d* ⊗ q`.
     #[inline]
     fn e_r(self, rd: Self) -> V3<B> {
-        let [w, x, y, z] = B::quat_to_wxyz(B::quat_mul(B::quat_conj(rd.0), self.0));
-        let k = S::<B>::lit(2.0) * w;
-        B::vec3(x * k, y * k, z * k)
+        self.e_r_against(rd)
     }
     /// `‖RᵀR − I‖_F` of the matrix the (possibly non-unit) quaternion maps
     /// to, `≈ 2√3 |‖q‖² − 1|`, so the two representations report the same

@@ -4,8 +4,26 @@
 //! conversions and the paper's attitude errors.
 
 use crate::backend::ops;
-use crate::{Backend, LieGroup, M3, Real, S, V3};
+use crate::{Backend, LieGroup, M3, Real, S, SimdBackend, V3};
 use core::fmt::Debug;
+
+/// What an attitude controller needs of a rotation, on any backend
+/// including SIMD lanes ([`SimdBackend`]): the error rotation `R_dᵀR`, the
+/// paper's `e_R` and `Ψ` read off it, and `Rᵀv`. A supertrait of
+/// [`Rotation`], so code generic over `R: Rotation<B>` calls these as
+/// before; code that must also run on lanes is written over this trait.
+pub trait AttitudeErrors<B: SimdBackend>: Copy + Debug {
+    /// `R_dᵀ R` (`self` is `R`), the rotation whose distance from the
+    /// identity the paper's errors measure.
+    fn error_rotation(self, rd: Self) -> Self;
+    /// `Rᵀ v`, without forming the inverse.
+    fn inverse_act(self, v: V3<B>) -> V3<B>;
+    /// `(e_R, Ψ)` of this rotation against the identity. With
+    /// `self = R_dᵀR` these are the paper's `e_R(R, R_d)` and `Ψ(R, R_d)`,
+    /// so a controller that has formed `R_dᵀR` once (it also needs it for
+    /// `RᵀR_dΩ_d`) gets both without another product.
+    fn errors_to_identity(self) -> (V3<B>, S<B>);
+}
 
 /// An element of SO(3) in some representation (rotation matrix or unit
 /// quaternion) on backend `B`. `R` maps body-frame vectors to the inertial
@@ -33,12 +51,11 @@ pub trait Rotation<B: Backend>:
     + Debug
     + PartialEq
     + core::ops::Mul<Output = Self>
+    + AttitudeErrors<B>
 {
     /// `"matrix"` or `"quaternion"`, for reports.
     const REPR: &'static str;
 
-    /// `Rᵀ v`, without forming the inverse.
-    fn inverse_act(self, v: V3<B>) -> V3<B>;
     /// The rotation matrix.
     fn matrix(self) -> M3<B>;
     /// From a rotation matrix, trusted to be orthogonal with det +1 (use
@@ -60,15 +77,6 @@ pub trait Rotation<B: Backend>:
     /// Brought back onto SO(3): polar projection for a matrix, division by
     /// the norm for a quaternion.
     fn normalized(self) -> Self;
-
-    /// `(e_R, Ψ)` of this rotation against the identity. With
-    /// `self = R_dᵀR` these are the paper's `e_R(R, R_d)` and `Ψ(R, R_d)`,
-    /// so a controller that has formed `R_dᵀR` once (it also needs it for
-    /// `RᵀR_dΩ_d`) gets both without another product.
-    #[inline]
-    fn errors_to_identity(self) -> (V3<B>, S<B>) {
-        (self.e_r(Self::identity()), self.psi(Self::identity()))
-    }
 
     /// The body axis `R e_k` (`k` in 0..3): a column of the matrix.
     #[inline]

@@ -61,6 +61,7 @@ impl SimdMask for bool {
 pub trait SimdReal:
     Copy
     + Debug
+    + PartialEq
     + Send
     + Sync
     + 'static
@@ -95,6 +96,8 @@ pub trait SimdReal:
     /// Lane `i` is `f(i)`.
     fn simd_from_fn(f: impl FnMut(usize) -> Self::Element) -> Self;
 
+    /// Lane-wise `self == other`.
+    fn simd_eq(self, other: Self) -> Self::Mask;
     /// Lane-wise `self < other`.
     fn simd_lt(self, other: Self) -> Self::Mask;
     /// Lane-wise `self ≤ other`.
@@ -179,6 +182,10 @@ macro_rules! one_lane {
             #[inline(always)]
             fn simd_from_fn(mut f: impl FnMut(usize) -> $t) -> $t {
                 f(0)
+            }
+            #[inline(always)]
+            fn simd_eq(self, other: $t) -> bool {
+                self == other
             }
             #[inline(always)]
             fn simd_lt(self, other: $t) -> bool {

@@ -8,7 +8,10 @@
 
 use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, LieError, M3, Rotation, S, SimdBackend, SimdReal as _, V3, convert, series};
+use crate::{
+    AttitudeErrors, Backend, LieError, M3, Rotation, S, SimdBackend, SimdReal as _, V3, convert,
+    series,
+};
 use num_traits::{Float, One, Zero};
 
 /// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
@@ -102,13 +105,15 @@ pub use crate::convert::orthogonality_error;
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct So3Mat<B: SimdBackend>(pub(crate) M3<B>);
 
-impl<B: Backend> So3Mat<B> {
+impl<B: SimdBackend> So3Mat<B> {
     /// Wraps a matrix the caller knows to be a rotation.
     #[inline]
     pub fn from_matrix_unchecked(m: M3<B>) -> Self {
         Self(m)
     }
+}
 
+impl<B: Backend> So3Mat<B> {
     /// The nearest rotation to `m` in the Frobenius norm: the orthogonal
     /// factor of the polar decomposition `m = U P`.
     ///
@@ -216,13 +221,44 @@ impl<B: SimdBackend> So3Mat<B> {
     }
 }
 
+/// [`AttitudeErrors`]' operations, also inherent so that a concrete
+/// rotation needs no trait in scope for them.
+impl<B: SimdBackend> So3Mat<B> {
+    /// `Rᵀ v`, without forming the inverse.
+    #[inline]
+    pub fn inverse_act(self, v: V3<B>) -> V3<B> {
+        B::mat3_tr_mul_vec(self.0, v)
+    }
+    /// `(e_R, Ψ)` against the identity ([`AttitudeErrors::errors_to_identity`]).
+    #[inline]
+    pub fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        // Ψ against I as in `Rotation::psi`: ¼ ‖R − I‖², never negative.
+        let d = self.0 - ops::identity::<B>();
+        (
+            vee::<B>(self.0),
+            S::<B>::simd_lit(0.25) * ops::frob_dot::<B>(d, d),
+        )
+    }
+}
+
+impl<B: SimdBackend> AttitudeErrors<B> for So3Mat<B> {
+    #[inline]
+    fn error_rotation(self, rd: Self) -> Self {
+        rd.inverse().compose(self)
+    }
+    #[inline]
+    fn inverse_act(self, v: V3<B>) -> V3<B> {
+        So3Mat::inverse_act(self, v)
+    }
+    #[inline]
+    fn errors_to_identity(self) -> (V3<B>, S<B>) {
+        So3Mat::errors_to_identity(self)
+    }
+}
+
 impl<B: Backend> Rotation<B> for So3Mat<B> {
     const REPR: &'static str = "matrix";
 
-    #[inline]
-    fn inverse_act(self, v: V3<B>) -> V3<B> {
-        B::mat3_tr_mul_vec(self.0, v)
-    }
     #[inline]
     fn matrix(self) -> M3<B> {
         self.0
@@ -259,15 +295,6 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     #[inline]
     fn orthogonality_error(self) -> S<B> {
         orthogonality_error::<B>(self.0)
-    }
-    #[inline]
-    fn errors_to_identity(self) -> (V3<B>, S<B>) {
-        // Ψ against I as in `psi`: ¼ ‖R − I‖², never negative.
-        let d = self.0 - ops::identity::<B>();
-        (
-            vee::<B>(self.0),
-            S::<B>::lit(0.25) * ops::frob_dot::<B>(d, d),
-        )
     }
     #[inline]
     fn body_axis(self, k: usize) -> V3<B> {

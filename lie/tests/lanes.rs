@@ -251,14 +251,15 @@ fn a_nan_lane_does_not_leak() {
 /// The README's lane example, as written there.
 #[test]
 fn readme_example() {
-    use lie::WideF64x4;
-    let lane = |v: [f64; 4]| WideF64x4::simd_from_fn(|i| v[i]);
-    // Four rotation vectors, one per lane: 0, 1e-6, π/2 and π about x.
-    let phi = NalgebraF64x4::vec3(
-        lane([0.0, 1e-6, 1.5707963267948966, 3.141592653589793]),
-        lane([0.0; 4]),
-        lane([0.0; 4]),
-    );
+    use lie::lanes;
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    // Four rotation vectors about x, one per lane: 0, 1e-6, π/2 and π.
+    let angles = [0.0, 1e-6, FRAC_PI_2, PI];
+    let phi = lanes::vec3_from_fn::<NalgebraF64, NalgebraF64x4>(|i| {
+        NalgebraF64::vec3(angles[i], 0.0, 0.0)
+    });
     let back = So3Mat::<NalgebraF64x4>::exp(phi).log();
-    assert!((back.x.simd_extract(3) - 3.141592653589793).abs() < 1e-15);
+    let last = lanes::vec3_lane::<NalgebraF64, NalgebraF64x4>(back, 3);
+    assert!((last.x - PI).abs() < 1e-15);
 }

@@ -55,6 +55,10 @@ macro_rules! lane_real {
                 Self::from(core::array::from_fn::<$e, $n, _>(f))
             }
             #[inline(always)]
+            fn simd_eq(self, other: Self) -> $m {
+                SimdPartialOrd::simd_eq(self, other)
+            }
+            #[inline(always)]
             fn simd_lt(self, other: Self) -> $m {
                 SimdPartialOrd::simd_lt(self, other)
             }

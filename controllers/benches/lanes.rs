@@ -1,0 +1,151 @@
+//! `cargo bench -p controllers --features simd --bench lanes`: the attitude
+//! law (`attitude_law`, the unchecked law both flight modes share) for a
+//! batch of [`BATCH`] vehicles, one vehicle per call on the scalar
+//! backends and four or eight per call on the lane backends. Criterion's
+//! throughput is the batch, so its time per element is per vehicle.
+
+use controllers::{AttitudeGains, AttitudeReference, RigidBodyParams, attitude_law};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use lie::{
+    Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real,
+    SimdBackend, SimdReal, So3Mat, V3, lanes,
+};
+use std::hint::black_box;
+
+/// Vehicles per timed iteration.
+const BATCH: usize = 64;
+
+/// One vehicle's inputs on backend `B`.
+#[derive(Clone, Copy)]
+struct Inputs<B: SimdBackend> {
+    r: So3Mat<B>,
+    omega: V3<B>,
+    e_i: V3<B>,
+    reference: AttitudeReference<B, So3Mat<B>>,
+}
+
+/// Vehicle `i`'s inputs on a scalar backend (mid-flight, all different).
+fn vehicle<S: Backend>(i: usize) -> Inputs<S> {
+    let t = i as f64 * 0.37;
+    let v =
+        |a: f64, b: f64, c: f64| S::vec3(S::Scalar::lit(a), S::Scalar::lit(b), S::Scalar::lit(c));
+    Inputs {
+        r: So3Mat::<S>::exp(v(0.3 * t.sin(), 0.2 * t.cos(), -0.4 * (2.0 * t).sin())),
+        omega: v(0.4 * t.cos(), -0.7, 0.2 * t.sin()),
+        e_i: v(0.01, -0.02 * t.sin(), 0.005),
+        reference: AttitudeReference {
+            rd: So3Mat::<S>::exp(v(-0.1, 0.2 * t.sin(), 0.3)),
+            omega_d: v(0.1, 0.0, -0.2 * t.cos()),
+            omega_d_dot: v(0.0, 0.5 * t.sin(), 0.1),
+        },
+    }
+}
+
+/// The batch packed into lanes of `L` (one vehicle per lane).
+fn packed<S, L>() -> Vec<Inputs<L>>
+where
+    S: Backend,
+    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
+{
+    let n = <L::Scalar as SimdReal>::LANES;
+    (0..BATCH / n)
+        .map(|g| {
+            let at = |i: usize| vehicle::<S>(g * n + i);
+            Inputs {
+                r: So3Mat::from_matrix_unchecked(lanes::mat3_from_fn::<S, L>(|i| {
+                    at(i).r.as_matrix()
+                })),
+                omega: lanes::vec3_from_fn::<S, L>(|i| at(i).omega),
+                e_i: lanes::vec3_from_fn::<S, L>(|i| at(i).e_i),
+                reference: AttitudeReference {
+                    rd: So3Mat::from_matrix_unchecked(lanes::mat3_from_fn::<S, L>(|i| {
+                        at(i).reference.rd.as_matrix()
+                    })),
+                    omega_d: lanes::vec3_from_fn::<S, L>(|i| at(i).reference.omega_d),
+                    omega_d_dot: lanes::vec3_from_fn::<S, L>(|i| at(i).reference.omega_d_dot),
+                },
+            }
+        })
+        .collect()
+}
+
+/// Gains and parameters in every lane.
+fn splat<S, L>() -> (RigidBodyParams<L>, AttitudeGains<L>)
+where
+    S: Backend,
+    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
+{
+    let (p, g) = (RigidBodyParams::<S>::paper(), AttitudeGains::<S>::paper());
+    let v = |x: V3<S>| lanes::vec3_from_fn::<S, L>(|_| x);
+    (
+        RigidBodyParams {
+            mass: SimdReal::simd_splat(p.mass),
+            inertia: lanes::mat3_from_fn::<S, L>(|_| p.inertia),
+            gravity: SimdReal::simd_splat(p.gravity),
+        },
+        AttitudeGains {
+            k_r: v(g.k_r),
+            k_omega: v(g.k_omega),
+            k_i: v(g.k_i),
+            c2: SimdReal::simd_splat(g.c2),
+        },
+    )
+}
+
+fn run<B: SimdBackend>(
+    c: &mut Criterion,
+    id: &str,
+    params: RigidBodyParams<B>,
+    gains: AttitudeGains<B>,
+    batch: Vec<Inputs<B>>,
+) {
+    let mut g = c.benchmark_group("lanes/attitude");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    g.bench_function(id, |b| {
+        b.iter(|| {
+            for x in black_box(&batch) {
+                black_box(attitude_law(
+                    &params,
+                    &gains,
+                    x.r,
+                    x.omega,
+                    x.e_i,
+                    &x.reference,
+                ));
+            }
+        })
+    });
+    g.finish();
+}
+
+fn scalar<S: Backend>(c: &mut Criterion) {
+    let batch = (0..BATCH).map(vehicle::<S>).collect();
+    run::<S>(
+        c,
+        S::NAME,
+        RigidBodyParams::paper(),
+        AttitudeGains::paper(),
+        batch,
+    );
+}
+
+fn lanes_of<S, L>(c: &mut Criterion)
+where
+    S: Backend,
+    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
+{
+    let (p, g) = splat::<S, L>();
+    run::<L>(c, L::NAME, p, g, packed::<S, L>());
+}
+
+fn benches(c: &mut Criterion) {
+    scalar::<GlamF32>(c);
+    scalar::<GlamF64>(c);
+    scalar::<NalgebraF32>(c);
+    scalar::<NalgebraF64>(c);
+    lanes_of::<NalgebraF64, NalgebraF64x4>(c);
+    lanes_of::<NalgebraF32, NalgebraF32x8>(c);
+}
+
+criterion_group!(lanes_bench, benches);
+criterion_main!(lanes_bench);
