@@ -1,10 +1,15 @@
 //! `cargo bench -p controllers --features simd --bench lanes`: the attitude
-//! law (`attitude_law`, the unchecked law both flight modes share) for a
-//! batch of [`BATCH`] vehicles, one vehicle per call on the scalar
-//! backends and four or eight per call on the lane backends. Criterion's
-//! throughput is the batch, so its time per element is per vehicle.
+//! law (`attitude_law`, the unchecked law both flight modes share) and the
+//! position law (`position_law`) for a batch of [`BATCH`] vehicles, one
+//! vehicle per call on the scalar backends and four or eight per call on
+//! the lane backends. Criterion's throughput is the batch, so its time per
+//! element is per vehicle. The checked laws (`attitude_control`,
+//! `position_control`) are the scalar rows of `cargo bench -p controllers`.
 
-use controllers::{AttitudeGains, AttitudeReference, RigidBodyParams, attitude_law};
+use controllers::{
+    AccelerationModel, AttitudeGains, AttitudeReference, PositionGains, PositionInput,
+    PositionReference, RigidBodyParams, VehicleState, attitude_law, position_law,
+};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use lie::{
     Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real,
@@ -22,6 +27,10 @@ struct Inputs<B: SimdBackend> {
     omega: V3<B>,
     e_i: V3<B>,
     reference: AttitudeReference<B, So3Mat<B>>,
+    x: V3<B>,
+    v: V3<B>,
+    e_i_pos: V3<B>,
+    position: PositionReference<B>,
 }
 
 /// Vehicle `i`'s inputs on a scalar backend (mid-flight, all different).
@@ -37,6 +46,19 @@ fn vehicle<S: Backend>(i: usize) -> Inputs<S> {
             rd: So3Mat::<S>::exp(v(-0.1, 0.2 * t.sin(), 0.3)),
             omega_d: v(0.1, 0.0, -0.2 * t.cos()),
             omega_d_dot: v(0.0, 0.5 * t.sin(), 0.1),
+        },
+        x: v(0.3 * t.cos(), -0.2, -1.1),
+        v: v(0.5, 0.1 * t.sin(), -0.3),
+        e_i_pos: v(0.02, -0.01, 0.03 * t.cos()),
+        position: PositionReference {
+            x: v(0.1, 0.0, -1.0),
+            v: v(0.2, 0.1, 0.0),
+            a: v(-0.1, 0.3 * t.sin(), 0.0),
+            jerk: v(0.2, -0.1, 0.0),
+            snap: v(0.0, 0.1, 0.0),
+            b1d: v(t.cos(), t.sin(), 0.0),
+            b1d_dot: v(-0.1 * t.sin(), 0.1 * t.cos(), 0.0),
+            b1d_ddot: v(-0.01 * t.cos(), -0.01 * t.sin(), 0.0),
         },
     }
 }
@@ -64,18 +86,37 @@ where
                     omega_d: lanes::vec3_from_fn::<S, L>(|i| at(i).reference.omega_d),
                     omega_d_dot: lanes::vec3_from_fn::<S, L>(|i| at(i).reference.omega_d_dot),
                 },
+                x: lanes::vec3_from_fn::<S, L>(|i| at(i).x),
+                v: lanes::vec3_from_fn::<S, L>(|i| at(i).v),
+                e_i_pos: lanes::vec3_from_fn::<S, L>(|i| at(i).e_i_pos),
+                position: {
+                    let p = |f: fn(&PositionReference<S>) -> V3<S>| {
+                        lanes::vec3_from_fn::<S, L>(|i| f(&at(i).position))
+                    };
+                    PositionReference {
+                        x: p(|r| r.x),
+                        v: p(|r| r.v),
+                        a: p(|r| r.a),
+                        jerk: p(|r| r.jerk),
+                        snap: p(|r| r.snap),
+                        b1d: p(|r| r.b1d),
+                        b1d_dot: p(|r| r.b1d_dot),
+                        b1d_ddot: p(|r| r.b1d_ddot),
+                    }
+                },
             }
         })
         .collect()
 }
 
 /// Gains and parameters in every lane.
-fn splat<S, L>() -> (RigidBodyParams<L>, AttitudeGains<L>)
+fn splat<S, L>() -> (RigidBodyParams<L>, AttitudeGains<L>, PositionGains<L>)
 where
     S: Backend,
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
     let (p, g) = (RigidBodyParams::<S>::paper(), AttitudeGains::<S>::paper());
+    let pg = PositionGains::<S>::paper();
     let v = |x: V3<S>| lanes::vec3_from_fn::<S, L>(|_| x);
     (
         RigidBodyParams {
@@ -89,24 +130,35 @@ where
             k_i: v(g.k_i),
             c2: SimdReal::simd_splat(g.c2),
         },
+        PositionGains {
+            k_x: v(pg.k_x),
+            k_v: v(pg.k_v),
+            k_i: v(pg.k_i),
+            c1: SimdReal::simd_splat(pg.c1),
+            sigma: SimdReal::simd_splat(pg.sigma),
+            clamp_integral: pg.clamp_integral,
+            sat_branch: pg.sat_branch,
+        },
     )
 }
 
-fn run<B: SimdBackend>(
-    c: &mut Criterion,
-    id: &str,
+/// What one bench row needs: the laws' constants and the batch.
+struct Setup<B: SimdBackend> {
     params: RigidBodyParams<B>,
     gains: AttitudeGains<B>,
+    position_gains: PositionGains<B>,
     batch: Vec<Inputs<B>>,
-) {
+}
+
+fn run<B: SimdBackend>(c: &mut Criterion, id: &str, s: Setup<B>) {
     let mut g = c.benchmark_group("lanes/attitude");
     g.throughput(Throughput::Elements(BATCH as u64));
     g.bench_function(id, |b| {
         b.iter(|| {
-            for x in black_box(&batch) {
+            for x in black_box(&s.batch) {
                 black_box(attitude_law(
-                    &params,
-                    &gains,
+                    &s.params,
+                    &s.gains,
                     x.r,
                     x.omega,
                     x.e_i,
@@ -116,17 +168,39 @@ fn run<B: SimdBackend>(
         })
     });
     g.finish();
+    let mut g = c.benchmark_group("lanes/position");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    g.bench_function(id, |b| {
+        b.iter(|| {
+            for x in black_box(&s.batch) {
+                let state = VehicleState {
+                    x: x.x,
+                    v: x.v,
+                    r: x.r,
+                    omega: x.omega,
+                };
+                let input = PositionInput {
+                    state: &state,
+                    e_i_pos: x.e_i_pos,
+                    e_i_att: x.e_i,
+                    reference: &x.position,
+                    model: AccelerationModel::Nominal,
+                };
+                black_box(position_law(&s.params, &s.position_gains, &s.gains, &input));
+            }
+        })
+    });
+    g.finish();
 }
 
 fn scalar<S: Backend>(c: &mut Criterion) {
-    let batch = (0..BATCH).map(vehicle::<S>).collect();
-    run::<S>(
-        c,
-        S::NAME,
-        RigidBodyParams::paper(),
-        AttitudeGains::paper(),
-        batch,
-    );
+    let setup = Setup {
+        params: RigidBodyParams::paper(),
+        gains: AttitudeGains::paper(),
+        position_gains: PositionGains::paper(),
+        batch: (0..BATCH).map(vehicle::<S>).collect(),
+    };
+    run::<S>(c, S::NAME, setup);
 }
 
 fn lanes_of<S, L>(c: &mut Criterion)
@@ -134,8 +208,18 @@ where
     S: Backend,
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
-    let (p, g) = splat::<S, L>();
-    run::<L>(c, L::NAME, p, g, packed::<S, L>());
+    let (params, gains, position_gains) = splat::<S, L>();
+    let batch = packed::<S, L>();
+    run::<L>(
+        c,
+        L::NAME,
+        Setup {
+            params,
+            gains,
+            position_gains,
+            batch,
+        },
+    );
 }
 
 fn benches(c: &mut Criterion) {

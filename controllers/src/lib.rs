@@ -76,8 +76,9 @@ pub use mode::{
 };
 pub use mode_scheduler::{Leave, Phase, Scheduler, Switch};
 pub use position_pid::{
-    AccelerationModel, Degeneracy, PositionGains, PositionInput, PositionOutput, PositionReference,
-    SatBranch, VehicleState, position_control, thrust_pd_projection,
+    AccelerationModel, Degeneracy, Mask, PositionGains, PositionInput, PositionOutput,
+    PositionReference, SatBranch, VehicleState, position_control, position_law,
+    thrust_pd_projection,
 };
 
 use lie::{Backend, M3, Real, S};

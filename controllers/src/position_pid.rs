@@ -11,11 +11,24 @@ use crate::{ControlError, RigidBodyParams};
 use lie::num_traits::Float;
 #[cfg(test)]
 use lie::vee;
-use lie::{Backend, Real, Rotation, S, V3};
+use lie::{AttitudeErrors, Backend, Real, Rotation, S, SimdMask, SimdReal, V3};
+
+/// The comparison mask of a backend's scalar: `bool` for `f32`/`f64`.
+pub type Mask<B> = <S<B> as SimdReal>::Mask;
+/// The number type in each lane of a backend's scalar.
+type Element<B> = <S<B> as SimdReal>::Element;
+
+/// `a` in the lanes where `mask` is set, `b` elsewhere.
+#[inline(always)]
+fn select_v<B: lie::SimdBackend>(mask: Mask<B>, a: V3<B>, b: V3<B>) -> V3<B> {
+    let (a, b) = (B::vec3_to_array(a), B::vec3_to_array(b));
+    let c = |i: usize| S::<B>::simd_select(mask, a[i], b[i]);
+    B::vec3(c(0), c(1), c(2))
+}
 
 /// Position gains, per inertial axis (diagonal); the paper's are scalars.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct PositionGains<B: Backend> {
+pub struct PositionGains<B: lie::SimdBackend> {
     /// `k_x` per axis.
     pub k_x: V3<B>,
     /// `k_v` per axis.
@@ -76,7 +89,7 @@ impl<B: Backend> PositionGains<B> {
 /// The position command `x_d(t)` with four derivatives and the heading
 /// command `b1d(t)` with two.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct PositionReference<B: Backend> {
+pub struct PositionReference<B: lie::SimdBackend> {
     /// `x_d`.
     pub x: V3<B>,
     /// `ẋ_d`.
@@ -116,7 +129,7 @@ impl<B: Backend> PositionReference<B> {
 /// The vehicle state the position law reads: position and velocity in the
 /// inertial frame, attitude, body angular velocity.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct VehicleState<B: Backend, R: Rotation<B>> {
+pub struct VehicleState<B: lie::SimdBackend, R: AttitudeErrors<B>> {
     /// `x`.
     pub x: V3<B>,
     /// `v = ẋ`.
@@ -130,7 +143,7 @@ pub struct VehicleState<B: Backend, R: Rotation<B>> {
 /// Which translational acceleration (and its derivative) the computed
 /// attitude's derivatives use.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub enum AccelerationModel<B: Backend> {
+pub enum AccelerationModel<B: lie::SimdBackend> {
     /// The nominal model with the integral term as the disturbance
     /// estimate: `a = g e3 − (f/m) R e3 + k_i sat_σ(e_i)/m` (the default).
     /// The controller does not know `Δ_x`, but at the equilibrium the
@@ -153,21 +166,24 @@ pub enum AccelerationModel<B: Backend> {
 }
 
 /// Fallbacks taken when the construction of `R_c` degenerates.
+///
+/// `M` is the mask type of the backend's scalar: `bool` for `f32`/`f64`,
+/// one flag per lane on a lane backend.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-pub struct Degeneracy {
+pub struct Degeneracy<M = bool> {
     /// `‖A‖` was (numerically) zero, (eqn:A1) violated: the thrust direction
     /// is undefined. `b3c` is then the current body axis `R e3` with zero
     /// derivatives, and the thrust `−A·Re3` is ≈ 0.
-    pub thrust_direction_undefined: bool,
+    pub thrust_direction_undefined: M,
     /// `b1d` was (nearly) parallel to `b3c`, so the heading is undefined.
     /// The current body axis `R e1` is used as `b1d` with zero derivatives
     /// (hold the present heading); if that is parallel too, `R e2`.
-    pub heading_undefined: bool,
+    pub heading_undefined: M,
 }
 
 /// What the position law computed.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct PositionOutput<B: Backend, R: Rotation<B>> {
+pub struct PositionOutput<B: lie::SimdBackend, R: AttitudeErrors<B>> {
     /// Total thrust `f` (eqn:f), acting along `−R e3`.
     pub thrust: S<B>,
     /// Moment `M` (eqn:M), body frame.
@@ -192,22 +208,25 @@ pub struct PositionOutput<B: Backend, R: Rotation<B>> {
     pub e_i_pos_rate: V3<B>,
     /// `ė_I = e_Ω + c2 e_R`.
     pub e_i_att_rate: V3<B>,
-    /// Fallbacks taken, if any.
-    pub degeneracy: Degeneracy,
+    /// Fallbacks taken, if any (per lane on a lane backend).
+    pub degeneracy: Degeneracy<Mask<B>>,
 }
 
 #[inline]
-fn sat_and_slope<B: Backend>(e: V3<B>, sigma: S<B>, branch: [SatBranch; 3]) -> (V3<B>, V3<B>) {
+fn sat_and_slope<B: lie::SimdBackend>(
+    e: V3<B>,
+    sigma: S<B>,
+    branch: [SatBranch; 3],
+) -> (V3<B>, V3<B>) {
     let a = B::vec3_to_array(e);
-    let (one, zero_) = (S::<B>::lit(1.0), S::<B>::lit(0.0));
+    let (one, zero_) = (S::<B>::simd_lit(1.0), S::<B>::simd_lit(0.0));
     // Component by component rather than `[_; 3]::map`: the array map was
     // left out of line in release builds (~60 instructions per update).
-    let s = |i: usize| a[i].max(-sigma).min(sigma);
+    let s = |i: usize| a[i].simd_max(-sigma).simd_min(sigma);
     // sat′ is 1 inside [−σ, σ] (the closed interval: the paper's cases) and
     // 0 outside, unless a branch is forced.
     let d = |i: usize| match branch[i] {
-        SatBranch::Auto if a[i].abs() <= sigma => one,
-        SatBranch::Auto => zero_,
+        SatBranch::Auto => S::<B>::simd_select(a[i].simd_abs().simd_le(sigma), one, zero_),
         SatBranch::Inside => one,
         SatBranch::Outside => zero_,
     };
@@ -216,15 +235,13 @@ fn sat_and_slope<B: Backend>(e: V3<B>, sigma: S<B>, branch: [SatBranch; 3]) -> (
 
 /// Zeroes the rate of components that sit at `±σ` and push outward.
 #[inline]
-fn clamp_rate<B: Backend>(e: V3<B>, rate: V3<B>, sigma: S<B>) -> V3<B> {
+fn clamp_rate<B: lie::SimdBackend>(e: V3<B>, rate: V3<B>, sigma: S<B>) -> V3<B> {
     let (e, r) = (B::vec3_to_array(e), B::vec3_to_array(rate));
-    let z = S::<B>::lit(0.0);
+    let z = S::<B>::simd_lit(0.0);
     let c = |i: usize| {
-        if (e[i] >= sigma && r[i] > z) || (e[i] <= -sigma && r[i] < z) {
-            z
-        } else {
-            r[i]
-        }
+        let outward =
+            (e[i].simd_ge(sigma) & r[i].simd_gt(z)) | (e[i].simd_le(-sigma) & r[i].simd_lt(z));
+        S::<B>::simd_select(outward, z, r[i])
     };
     B::vec3(c(0), c(1), c(2))
 }
@@ -250,7 +267,7 @@ pub fn thrust_pd_projection<B: Backend, R: Rotation<B>>(
 /// sit next to each other in the register in the order `[e_I, e_i]`, and
 /// named fields keep them from being swapped.
 #[derive(Copy, Clone, Debug)]
-pub struct PositionInput<'a, B: Backend, R: Rotation<B>> {
+pub struct PositionInput<'a, B: lie::SimdBackend, R: AttitudeErrors<B>> {
     /// The vehicle's state.
     pub state: &'a VehicleState<B, R>,
     /// The position integral `e_i` (register slots 3–5 in the paper's
@@ -311,7 +328,7 @@ pub fn position_control<B: Backend, R: Rotation<B>>(
             field: "measured acceleration/jerk",
         });
     }
-    let out = position_core(params, pos_gains, att_gains, input);
+    let out = position_law(params, pos_gains, att_gains, input);
     let degenerate = out.degeneracy.thrust_direction_undefined || out.degeneracy.heading_undefined;
     // A fallback replaces derivatives by zeros and could drop a NaN in
     // them: then every input is checked, as it is whenever an output is
@@ -374,13 +391,13 @@ type UnitDerivatives<B> = (V3<B>, V3<B>, V3<B>, S<B>, S<B>);
 /// ‖u‖ > 0): with `q = b·u̇`, `ḃ = (u̇ − q b)/‖u‖`,
 /// `b̈ = (ü − 2q ḃ − (ḃ·u̇ + b·ü) b)/‖u‖`. Returns `(b, ḃ, b̈, q, 1/‖u‖)`.
 #[inline(always)]
-fn unit_with_derivatives<B: Backend>(
+fn unit_with_derivatives<B: lie::SimdBackend>(
     u: V3<B>,
     ud: V3<B>,
     udd: V3<B>,
     n: S<B>,
 ) -> UnitDerivatives<B> {
-    let (one, two) = (S::<B>::lit(1.0), S::<B>::lit(2.0));
+    let (one, two) = (S::<B>::simd_lit(1.0), S::<B>::simd_lit(2.0));
     let inv = one / n;
     let b = u * inv;
     let q = B::dot(b, ud);
@@ -392,37 +409,45 @@ fn unit_with_derivatives<B: Backend>(
 /// `b2c` and `1/‖c‖` when `b3c` is `R e3` (no thrust direction) or nearly
 /// parallel to `b1d`: `c = b3c × b1d` from `b3c` itself, and when even
 /// that vanishes a body axis (`b1`, else `b2`) replaces `b1d` (its
-/// derivatives zero), noted in `degeneracy`.
+/// derivatives zero), noted in the returned mask (per lane).
 #[cold]
 #[inline(never)]
-fn degenerate_heading<B: Backend>(
+fn degenerate_heading<B: lie::SimdBackend>(
     b3: V3<B>,
     b1d: &mut (V3<B>, V3<B>, V3<B>),
     (rb1, rb2): (V3<B>, V3<B>),
     c_floor: S<B>,
-    degeneracy: &mut Degeneracy,
-) -> (V3<B>, S<B>) {
+) -> (V3<B>, S<B>, Mask<B>) {
     let z = zero::<B>();
-    let mut c = B::cross(b3, b1d.0);
-    let mut nc = norm::<B>(c);
-    if nc <= c_floor {
-        degeneracy.heading_undefined = true;
-        let alt = if norm::<B>(B::cross(b3, rb1)) > c_floor {
-            rb1
-        } else {
-            rb2
-        };
-        *b1d = (alt, z, z);
-        c = B::cross(b3, b1d.0);
-        nc = norm::<B>(c);
-    }
-    let invc = S::<B>::lit(1.0) / nc;
-    (c * invc, invc)
+    let c = B::cross(b3, b1d.0);
+    let nc = norm::<B>(c);
+    let undefined = nc.simd_le(c_floor);
+    let (c, nc) = if undefined.any() {
+        let alt = select_v::<B>(norm::<B>(B::cross(b3, rb1)).simd_gt(c_floor), rb1, rb2);
+        *b1d = (
+            select_v::<B>(undefined, alt, b1d.0),
+            select_v::<B>(undefined, z, b1d.1),
+            select_v::<B>(undefined, z, b1d.2),
+        );
+        let c = B::cross(b3, b1d.0);
+        (c, norm::<B>(c))
+    } else {
+        (c, nc)
+    };
+    let invc = S::<B>::simd_lit(1.0) / nc;
+    (c * invc, invc, undefined)
 }
 
-/// [`position_control`] without the input checks.
+/// The position law (eqn:Rd3), (eqn:f), (eqn:RdWc), (eqn:M) without input
+/// checks: what [`position_control`] computes, on any backend, SIMD lanes
+/// included (`lie`'s `simd` feature: one call computes four or eight
+/// vehicles' thrusts and moments). Each branch of the law (the
+/// saturation, the two degeneracy fallbacks) is taken lane by lane, and
+/// the returned [`Degeneracy`] says which lanes took a fallback. A NaN or
+/// ±∞ in an input gives NaN outputs (in that lane) instead of an error;
+/// call [`position_control`] for the checked law.
 #[inline(always)]
-fn position_core<B: Backend, R: Rotation<B>>(
+pub fn position_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     params: &RigidBodyParams<B>,
     pos_gains: &PositionGains<B>,
     att_gains: &AttitudeGains<B>,
@@ -435,7 +460,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
         reference,
         model,
     } = *input;
-    let s = S::<B>::lit;
+    let s = S::<B>::simd_lit;
     let (one, two) = (s(1.0), s(2.0));
     let (m, g) = (params.mass, params.gravity);
     let inv_m = one / m;
@@ -443,8 +468,6 @@ fn position_core<B: Backend, R: Rotation<B>>(
     let z = zero::<B>();
     let e3 = B::vec3(s(0.0), s(0.0), one);
     let r = state.r;
-    let mut degeneracy = Degeneracy::default();
-
     let e_x = state.x - reference.x;
     let e_v = state.v - reference.v;
     let (sat, slope) = sat_and_slope::<B>(e_i_pos, g_.sigma, g_.sat_branch);
@@ -455,7 +478,7 @@ fn position_core<B: Backend, R: Rotation<B>>(
     let ki_sat = cmul::<B>(g_.k_i, sat);
     let a_cmd =
         -cmul::<B>(g_.k_x, e_x) - cmul::<B>(g_.k_v, e_v) - ki_sat - e3 * (m * g) + reference.a * m;
-    let (rb1, rb2, re3) = (r.body_axis(0), r.body_axis(1), r.body_axis(2));
+    let [rb1, rb2, re3] = r.body_axes();
     let thrust = -B::dot(a_cmd, re3);
 
     // First derivatives.
@@ -492,12 +515,28 @@ fn position_core<B: Backend, R: Rotation<B>>(
     // q = b·u̇: ḃ = (u̇ − q b)/‖u‖, b̈ = (ü − 2q ḃ − (ḃ·u̇ + b·ü) b)/‖u‖.
     let (u, ud, udd) = (-a_cmd, -a_dot, -a_ddot);
     let n = norm::<B>(u);
-    let a_floor = S::<B>::epsilon().sqrt() * m * g;
-    let (b3, b3d, b3dd, q3, inv3) = if n > a_floor {
+    let root_eps = S::<B>::simd_splat(<Element<B> as Float>::epsilon()).simd_sqrt();
+    let a_floor = root_eps * m * g;
+    let thrust_ok = n.simd_gt(a_floor);
+    let thrust_undefined = !thrust_ok;
+    let fallback = || (re3, z, z, s(0.0), s(0.0));
+    // One lane: `if n > a_floor`. Lanes: the regular construction, and the
+    // fallback blended into the lanes that need it.
+    let (b3, b3d, b3dd, q3, inv3) = if thrust_ok.all() {
         unit_with_derivatives::<B>(u, ud, udd, n)
+    } else if !thrust_ok.any() {
+        fallback()
     } else {
-        degeneracy.thrust_direction_undefined = true;
-        (re3, z, z, s(0.0), s(0.0))
+        let (r, f) = (unit_with_derivatives::<B>(u, ud, udd, n), fallback());
+        let (v, sc) = (select_v::<B>, S::<B>::simd_select);
+        let k = thrust_ok;
+        (
+            v(k, r.0, f.0),
+            v(k, r.1, f.1),
+            v(k, r.2, f.2),
+            sc(k, r.3, f.3),
+            sc(k, r.4, f.4),
+        )
     };
 
     // b2c = c/‖c‖, c = b3c × b1d; b1d ∥ b3c guarded. In the regular case
@@ -505,14 +544,34 @@ fn position_core<B: Backend, R: Rotation<B>>(
     // ‖u‖/‖u × b1d‖: the two square roots and reciprocals do not wait on
     // each other (they are the longest chain of the law).
     let mut b1d = (reference.b1d, reference.b1d_dot, reference.b1d_ddot);
-    let c_floor = S::<B>::epsilon().sqrt() * (one + norm::<B>(reference.b1d));
+    let c_floor = root_eps * (one + norm::<B>(reference.b1d));
     let cu = B::cross(u, b1d.0);
     let ncu = norm::<B>(cu);
-    let (b2, invc) = if !degeneracy.thrust_direction_undefined && ncu > c_floor * n {
+    let regular = thrust_ok & ncu.simd_gt(c_floor * n);
+    let heading = || {
         let inv_cu = one / ncu;
         (cu * inv_cu, n * inv_cu)
+    };
+    let (b2, invc, heading_undefined) = if regular.all() {
+        let (b2, invc) = heading();
+        (b2, invc, Mask::<B>::splat(false))
+    } else if !regular.any() {
+        degenerate_heading::<B>(b3, &mut b1d, (rb1, rb2), c_floor)
     } else {
-        degenerate_heading::<B>(b3, &mut b1d, (rb1, rb2), c_floor, &mut degeneracy)
+        let (b2, invc) = heading();
+        let mut b1d_f = b1d;
+        let (b2_f, invc_f, undefined) =
+            degenerate_heading::<B>(b3, &mut b1d_f, (rb1, rb2), c_floor);
+        b1d = (
+            select_v::<B>(regular, b1d.0, b1d_f.0),
+            select_v::<B>(regular, b1d.1, b1d_f.1),
+            select_v::<B>(regular, b1d.2, b1d_f.2),
+        );
+        (
+            select_v::<B>(regular, b2, b2_f),
+            S::<B>::simd_select(regular, invc, invc_f),
+            undefined & !regular,
+        )
     };
     let cd = B::cross(b3d, b1d.0) + B::cross(b3, b1d.1);
     let cdd = B::cross(b3dd, b1d.0) + B::cross(b3d, b1d.1) * two + B::cross(b3, b1d.2);
@@ -528,14 +587,19 @@ fn position_core<B: Backend, R: Rotation<B>>(
     // term is normal to the projection axis.
     let b3_b2dd = (B::dot(b3, cdd) - two * qc * w1) * invc;
     let b1_b2dd = (B::dot(b1, cdd) + two * qc * w3) * invc;
-    let b1_b3dd = if degeneracy.thrust_direction_undefined {
+    let b1_b3dd = if thrust_undefined.all() {
         s(0.0)
     } else {
-        (B::dot(b1, udd) - two * q3 * w2) * inv3
+        let b1_b3dd = (B::dot(b1, udd) - two * q3 * w2) * inv3;
+        if thrust_undefined.any() {
+            S::<B>::simd_select(thrust_undefined, s(0.0), b1_b3dd)
+        } else {
+            b1_b3dd
+        }
     };
     let omega_c = B::vec3(w1, w2, w3);
     let omega_c_dot = B::vec3(b3_b2dd - w2 * w3, b1_b3dd - w3 * w1, -b1_b2dd + w1 * w2);
-    let rc = R::from_matrix(B::mat3_from_cols(b1, b2, b3));
+    let rc = R::from_frame(b1, b2, b3);
 
     let att = attitude_law(
         params,
@@ -562,7 +626,10 @@ fn position_core<B: Backend, R: Rotation<B>>(
         psi: att.psi,
         e_i_pos_rate: ei_rate,
         e_i_att_rate: att.e_i_rate,
-        degeneracy,
+        degeneracy: Degeneracy {
+            thrust_direction_undefined: thrust_undefined,
+            heading_undefined,
+        },
     }
 }
 

@@ -3,7 +3,7 @@
 //! of a normalised vector.
 
 use lie::num_traits::Float;
-use lie::{Backend, Real, S, V3};
+use lie::{Backend, S, V3};
 
 #[inline(always)]
 pub(crate) fn cmul<B: lie::SimdBackend>(a: V3<B>, b: V3<B>) -> V3<B> {
@@ -12,8 +12,8 @@ pub(crate) fn cmul<B: lie::SimdBackend>(a: V3<B>, b: V3<B>) -> V3<B> {
 }
 
 #[inline(always)]
-pub(crate) fn norm<B: Backend>(a: V3<B>) -> S<B> {
-    B::dot(a, a).sqrt()
+pub(crate) fn norm<B: lie::SimdBackend>(a: V3<B>) -> S<B> {
+    lie::SimdReal::simd_sqrt(B::dot(a, a))
 }
 
 #[inline(always)]
@@ -24,8 +24,8 @@ pub(crate) fn is_finite<B: Backend>(a: V3<B>) -> bool {
 }
 
 #[inline(always)]
-pub(crate) fn zero<B: Backend>() -> V3<B> {
-    let z = S::<B>::lit(0.0);
+pub(crate) fn zero<B: lie::SimdBackend>() -> V3<B> {
+    let z = <S<B> as lie::SimdReal>::simd_lit(0.0);
     B::vec3(z, z, z)
 }
 
@@ -36,6 +36,7 @@ pub(crate) fn zero<B: Backend>() -> V3<B> {
 #[cfg(test)]
 #[inline]
 pub(crate) fn unit_derivs<B: Backend>(u: V3<B>, ud: V3<B>, udd: V3<B>) -> (V3<B>, V3<B>, V3<B>) {
+    use lie::Real;
     let n = norm::<B>(u);
     let inv = S::<B>::lit(1.0) / n;
     let inv3 = inv * inv * inv;

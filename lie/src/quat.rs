@@ -3,7 +3,7 @@
 
 use crate::backend::ops;
 use crate::convert::{log_wxyz, shepperd, to_matrix};
-use crate::{AttitudeErrors, Backend, M3, Rotation, S, SimdBackend, SimdReal as _, V3, series};
+use crate::{AttitudeErrors, Backend, M3, Rotation, S, SimdBackend, SimdReal, V3, series};
 use num_traits::{Float, One, Zero};
 
 /// A rotation stored as a unit quaternion of the backend's own type
@@ -75,6 +75,14 @@ impl<B: SimdBackend> So3Quat<B> {
 }
 
 impl<B: SimdBackend> So3Quat<B> {
+    /// Shepperd's conversion followed by normalisation, so a matrix that
+    /// is slightly off SO(3) still gives a unit quaternion.
+    #[inline]
+    fn from_matrix_normalized(m: M3<B>) -> Self {
+        let [w, x, y, z] = shepperd::<B>(m);
+        let n = S::<B>::one() / (w * w + x * x + y * y + z * z).simd_sqrt();
+        Self(B::quat_from_wxyz(w * n, x * n, y * n, z * n))
+    }
     /// The vector part of `q_d* ⊗ q` (`self` is `q`) and its `w`.
     #[inline]
     fn error_wxyz(self, rd: Self) -> [S<B>; 4] {
@@ -122,6 +130,16 @@ impl<B: SimdBackend> AttitudeErrors<B> for So3Quat<B> {
     fn errors_to_identity(self) -> (V3<B>, S<B>) {
         So3Quat::errors_to_identity(self)
     }
+    #[inline]
+    fn from_frame(b1: V3<B>, b2: V3<B>, b3: V3<B>) -> Self {
+        Self::from_matrix_normalized(B::mat3_from_cols(b1, b2, b3))
+    }
+    /// Each axis rotated on its own (as `Rotation::body_axis` does).
+    #[inline]
+    fn body_axes(self) -> [V3<B>; 3] {
+        let (z, o) = (S::<B>::zero(), S::<B>::one());
+        [B::vec3(o, z, z), B::vec3(z, o, z), B::vec3(z, z, o)].map(|e| self.act(e))
+    }
 }
 
 impl<B: Backend> Rotation<B> for So3Quat<B> {
@@ -135,9 +153,7 @@ impl<B: Backend> Rotation<B> for So3Quat<B> {
     /// slightly off SO(3) still gives a unit quaternion.
     #[inline]
     fn from_matrix(m: M3<B>) -> Self {
-        let [w, x, y, z] = shepperd::<B>(m);
-        let n = S::<B>::one() / (w * w + x * x + y * y + z * z).sqrt();
-        Self(B::quat_from_wxyz(w * n, x * n, y * n, z * n))
+        Self::from_matrix_normalized(m)
     }
     #[inline]
     fn quaternion(self) -> B::Quat {

@@ -23,6 +23,12 @@ pub trait AttitudeErrors<B: SimdBackend>: Copy + Debug {
     /// so a controller that has formed `R_dᵀR` once (it also needs it for
     /// `RᵀR_dΩ_d`) gets both without another product.
     fn errors_to_identity(self) -> (V3<B>, S<B>);
+    /// The rotation with body axes (matrix columns) `b1, b2, b3`, trusted
+    /// to be orthonormal and right-handed: how a position controller turns
+    /// the axes it constructs into its commanded attitude.
+    fn from_frame(b1: V3<B>, b2: V3<B>, b3: V3<B>) -> Self;
+    /// The body axes `R e1, R e2, R e3` (the matrix columns).
+    fn body_axes(self) -> [V3<B>; 3];
 }
 
 /// An element of SO(3) in some representation (rotation matrix or unit

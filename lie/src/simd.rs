@@ -22,15 +22,28 @@ use num_traits::{One, Zero};
 
 /// The result of a lane-wise comparison: `bool` for one lane.
 pub trait SimdMask:
-    Copy + Debug + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self>
+    Copy + Debug + PartialEq + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self>
 {
     /// Every lane is set.
     fn all(self) -> bool;
     /// At least one lane is set.
     fn any(self) -> bool;
+    /// Every lane set to `b`.
+    fn splat(b: bool) -> Self;
+    /// Lane `i` (`i` < the number of lanes; panics otherwise).
+    fn extract(self, i: usize) -> bool;
 }
 
 impl SimdMask for bool {
+    #[inline(always)]
+    fn extract(self, i: usize) -> bool {
+        assert!(i == 0, "lane {i} of a one-lane mask");
+        self
+    }
+    #[inline(always)]
+    fn splat(b: bool) -> Self {
+        b
+    }
     #[inline(always)]
     fn all(self) -> bool {
         self

@@ -254,6 +254,14 @@ impl<B: SimdBackend> AttitudeErrors<B> for So3Mat<B> {
     fn errors_to_identity(self) -> (V3<B>, S<B>) {
         So3Mat::errors_to_identity(self)
     }
+    #[inline]
+    fn from_frame(b1: V3<B>, b2: V3<B>, b3: V3<B>) -> Self {
+        Self(B::mat3_from_cols(b1, b2, b3))
+    }
+    #[inline]
+    fn body_axes(self) -> [V3<B>; 3] {
+        B::mat3_cols(self.0)
+    }
 }
 
 impl<B: Backend> Rotation<B> for So3Mat<B> {

@@ -29,6 +29,14 @@ macro_rules! lane_mask {
             fn any(self) -> bool {
                 SimdBool::any(self)
             }
+            #[inline(always)]
+            fn splat(b: bool) -> Self {
+                <Self as SimdValue>::splat(b)
+            }
+            #[inline(always)]
+            fn extract(self, i: usize) -> bool {
+                SimdValue::extract(&self, i)
+            }
         }
     };
 }
