@@ -109,39 +109,6 @@ where
         .collect()
 }
 
-/// Gains and parameters in every lane.
-fn splat<S, L>() -> (RigidBodyParams<L>, AttitudeGains<L>, PositionGains<L>)
-where
-    S: Backend,
-    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
-{
-    let (p, g) = (RigidBodyParams::<S>::paper(), AttitudeGains::<S>::paper());
-    let pg = PositionGains::<S>::paper();
-    let v = |x: V3<S>| lanes::vec3_from_fn::<S, L>(|_| x);
-    (
-        RigidBodyParams {
-            mass: SimdReal::simd_splat(p.mass),
-            inertia: lanes::mat3_from_fn::<S, L>(|_| p.inertia),
-            gravity: SimdReal::simd_splat(p.gravity),
-        },
-        AttitudeGains {
-            k_r: v(g.k_r),
-            k_omega: v(g.k_omega),
-            k_i: v(g.k_i),
-            c2: SimdReal::simd_splat(g.c2),
-        },
-        PositionGains {
-            k_x: v(pg.k_x),
-            k_v: v(pg.k_v),
-            k_i: v(pg.k_i),
-            c1: SimdReal::simd_splat(pg.c1),
-            sigma: SimdReal::simd_splat(pg.sigma),
-            clamp_integral: pg.clamp_integral,
-            sat_branch: pg.sat_branch,
-        },
-    )
-}
-
 /// What one bench row needs: the laws' constants and the batch.
 struct Setup<B: SimdBackend> {
     params: RigidBodyParams<B>,
@@ -208,18 +175,13 @@ where
     S: Backend,
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
-    let (params, gains, position_gains) = splat::<S, L>();
-    let batch = packed::<S, L>();
-    run::<L>(
-        c,
-        L::NAME,
-        Setup {
-            params,
-            gains,
-            position_gains,
-            batch,
-        },
-    );
+    let setup = Setup {
+        params: RigidBodyParams::splat(&RigidBodyParams::<S>::paper()),
+        gains: AttitudeGains::splat(&AttitudeGains::<S>::paper()),
+        position_gains: PositionGains::splat(&PositionGains::<S>::paper()),
+        batch: packed::<S, L>(),
+    };
+    run::<L>(c, L::NAME, setup);
 }
 
 fn benches(c: &mut Criterion) {

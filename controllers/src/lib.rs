@@ -60,6 +60,7 @@
 
 mod attitude_pid;
 pub mod gain_check;
+mod lanes;
 mod mode;
 mod mode_scheduler;
 pub mod paper;

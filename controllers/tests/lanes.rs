@@ -25,14 +25,18 @@ struct Case {
     omega_d_dot: [f64; 3],
 }
 
-fn cases(n: usize) -> Vec<Case> {
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
+/// A seeded xorshift stream of numbers in [−1, 1).
+fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
         seed ^= seed << 13;
         seed ^= seed >> 7;
         seed ^= seed << 17;
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    }
+}
+
+fn cases(n: usize) -> Vec<Case> {
+    let mut next = uniform(0x9e37_79b9_7f4a_7c15);
     let mut v = |k: f64| [k * next(), k * next(), k * next()];
     (0..n)
         .map(|i| Case {
@@ -98,23 +102,8 @@ macro_rules! compare {
         type L = $l;
         let n = <<L as SimdBackend>::Scalar as SimdReal>::LANES;
         let lit = |x: f64| <S as SimdBackend>::Scalar::lit(x);
-        let params = {
-            let p = RigidBodyParams::<S>::paper();
-            RigidBodyParams::<L> {
-                mass: SimdReal::simd_splat(p.mass),
-                inertia: p.inertia.map(SimdReal::simd_splat),
-                gravity: SimdReal::simd_splat(p.gravity),
-            }
-        };
-        let gains = {
-            let g = AttitudeGains::<S>::paper();
-            AttitudeGains::<L> {
-                k_r: g.k_r.map(SimdReal::simd_splat),
-                k_omega: g.k_omega.map(SimdReal::simd_splat),
-                k_i: g.k_i.map(SimdReal::simd_splat),
-                c2: SimdReal::simd_splat(g.c2),
-            }
-        };
+        let params = RigidBodyParams::<L>::splat(&RigidBodyParams::<S>::paper());
+        let gains = AttitudeGains::<L>::splat(&AttitudeGains::<S>::paper());
         let mut worst = 0u64;
         for chunk in cases(64 * n).chunks(n) {
             // Each lane's rotation built on the scalar side, then packed.
@@ -275,13 +264,7 @@ macro_rules! compare_position {
         let n = <<L as SimdBackend>::Scalar as SimdReal>::LANES;
         let lit = |x: f64| <S as SimdBackend>::Scalar::lit(x);
         let vs = |a: [f64; 3]| <S as SimdBackend>::vec3(lit(a[0]), lit(a[1]), lit(a[2]));
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let all: Vec<[[f64; 3]; 13]> = (0..64 * n).map(|k| position_case(k, &mut next)).collect();
         let b1d_of = |c: &[[f64; 3]; 13]| {
             if c[11] == [0.0, 0.0, 1.0] {
@@ -312,28 +295,9 @@ macro_rules! compare_position {
             AttitudeGains::<S>::paper(),
             RigidBodyParams::<S>::paper(),
         );
-        let v3 = |x: lie::V3<S>| lie::lanes::vec3_from_fn::<S, L>(|_| x);
-        let sp = SimdReal::simd_splat;
-        let params = RigidBodyParams::<L> {
-            mass: sp(pp.mass),
-            inertia: lie::lanes::mat3_from_fn::<S, L>(|_| pp.inertia),
-            gravity: sp(pp.gravity),
-        };
-        let pgl = PositionGains::<L> {
-            k_x: v3(pg.k_x),
-            k_v: v3(pg.k_v),
-            k_i: v3(pg.k_i),
-            c1: sp(pg.c1),
-            sigma: sp(pg.sigma),
-            clamp_integral: pg.clamp_integral,
-            sat_branch: pg.sat_branch,
-        };
-        let agl = AttitudeGains::<L> {
-            k_r: v3(ag.k_r),
-            k_omega: v3(ag.k_omega),
-            k_i: v3(ag.k_i),
-            c2: sp(ag.c2),
-        };
+        let params = RigidBodyParams::<L>::splat(&pp);
+        let pgl = PositionGains::<L>::splat(&pg);
+        let agl = AttitudeGains::<L>::splat(&ag);
         let (mut worst, mut degenerate, mut checked) = (0u64, 0usize, 0usize);
         for chunk in all.chunks(n) {
             let pack = |k: usize| lie::lanes::vec3_from_fn::<S, L>(|i| vs(chunk[i][k]));
