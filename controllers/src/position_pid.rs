@@ -414,7 +414,7 @@ fn unit_with_derivatives<B: lie::SimdBackend>(
 #[inline(never)]
 fn degenerate_heading<B: lie::SimdBackend>(
     b3: V3<B>,
-    b1d: &mut (V3<B>, V3<B>, V3<B>),
+    b1d: &mut WithDerivatives<B>,
     (rb1, rb2): (V3<B>, V3<B>),
     c_floor: S<B>,
 ) -> (V3<B>, S<B>, Mask<B>) {
@@ -436,6 +436,85 @@ fn degenerate_heading<B: lie::SimdBackend>(
     };
     let invc = S::<B>::simd_lit(1.0) / nc;
     (c * invc, invc, undefined)
+}
+
+/// `b3c = u/‖u‖` with its derivatives ([`unit_with_derivatives`]) where
+/// `‖u‖ > floor`, else `R e3` with zero derivatives; and the mask of the
+/// lanes where `‖u‖ > floor`. One lane: an `if`. Lanes: the regular
+/// construction, with the fallback blended into the lanes that need it.
+#[inline(always)]
+fn thrust_axis<B: lie::SimdBackend>(
+    (u, ud, udd): WithDerivatives<B>,
+    n: S<B>,
+    floor: S<B>,
+    re3: V3<B>,
+) -> (UnitDerivatives<B>, Mask<B>) {
+    let (z, zs) = (zero::<B>(), S::<B>::simd_lit(0.0));
+    let ok = n.simd_gt(floor);
+    let fallback = || (re3, z, z, zs, zs);
+    let axis = if ok.all() {
+        unit_with_derivatives::<B>(u, ud, udd, n)
+    } else if !ok.any() {
+        fallback()
+    } else {
+        let (r, f) = (unit_with_derivatives::<B>(u, ud, udd, n), fallback());
+        let (v, sc) = (select_v::<B>, S::<B>::simd_select);
+        (
+            v(ok, r.0, f.0),
+            v(ok, r.1, f.1),
+            v(ok, r.2, f.2),
+            sc(ok, r.3, f.3),
+            sc(ok, r.4, f.4),
+        )
+    };
+    (axis, ok)
+}
+
+/// A vector and its first two derivatives (`b1d`, `ḃ1d`, `b̈1d`).
+type WithDerivatives<B> = (V3<B>, V3<B>, V3<B>);
+/// What [`heading_axis`] returns: `(b2c, 1/‖c‖, b1d used, heading undefined)`.
+type Heading<B> = (V3<B>, S<B>, WithDerivatives<B>, Mask<B>);
+
+/// `b2c = c/‖c‖` with `c = b3c × b1d`, `1/‖c‖`, the `b1d` (and its
+/// derivatives) actually used, and the lanes whose heading was undefined.
+/// In the regular case `c = (u × b1d)/‖u‖`, so `b2c = (u × b1d)/‖u × b1d‖`
+/// and `1/‖c‖ = ‖u‖/‖u × b1d‖`: the two square roots and reciprocals do
+/// not wait on each other (they are the longest chain of the law). Where
+/// the thrust direction is undefined or `b1d ∥ b3c`,
+/// [`degenerate_heading`].
+#[inline(always)]
+fn heading_axis<B: lie::SimdBackend>(
+    (u, n): (V3<B>, S<B>),
+    b3: V3<B>,
+    mut b1d: WithDerivatives<B>,
+    (thrust_ok, c_floor): (Mask<B>, S<B>),
+    body: (V3<B>, V3<B>),
+) -> Heading<B> {
+    let cu = B::cross(u, b1d.0);
+    let ncu = norm::<B>(cu);
+    let regular = thrust_ok & ncu.simd_gt(c_floor * n);
+    let heading = || {
+        let inv_cu = S::<B>::simd_lit(1.0) / ncu;
+        (cu * inv_cu, n * inv_cu)
+    };
+    if regular.all() {
+        let (b2, invc) = heading();
+        (b2, invc, b1d, Mask::<B>::splat(false))
+    } else if !regular.any() {
+        let (b2, invc, undefined) = degenerate_heading::<B>(b3, &mut b1d, body, c_floor);
+        (b2, invc, b1d, undefined)
+    } else {
+        let (b2, invc) = heading();
+        let mut b1d_f = b1d;
+        let (b2_f, invc_f, undefined) = degenerate_heading::<B>(b3, &mut b1d_f, body, c_floor);
+        let v = |a, b| select_v::<B>(regular, a, b);
+        (
+            v(b2, b2_f),
+            S::<B>::simd_select(regular, invc, invc_f),
+            (v(b1d.0, b1d_f.0), v(b1d.1, b1d_f.1), v(b1d.2, b1d_f.2)),
+            undefined & !regular,
+        )
+    }
 }
 
 /// The position law (eqn:Rd3), (eqn:f), (eqn:RdWc), (eqn:M) without input
@@ -465,7 +544,6 @@ pub fn position_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     let (m, g) = (params.mass, params.gravity);
     let inv_m = one / m;
     let g_ = &pos_gains;
-    let z = zero::<B>();
     let e3 = B::vec3(s(0.0), s(0.0), one);
     let r = state.r;
     let e_x = state.x - reference.x;
@@ -511,68 +589,22 @@ pub fn position_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
         - cmul::<B>(g_.k_i, cmul::<B>(slope, ei_rate_dot))
         + reference.snap * m;
 
-    // b3c = u/‖u‖, u = −A, and its derivatives; (eqn:A1) guarded. With
-    // q = b·u̇: ḃ = (u̇ − q b)/‖u‖, b̈ = (ü − 2q ḃ − (ḃ·u̇ + b·ü) b)/‖u‖.
+    // b3c = u/‖u‖, u = −A, and its derivatives; (eqn:A1) guarded.
     let (u, ud, udd) = (-a_cmd, -a_dot, -a_ddot);
     let n = norm::<B>(u);
     let root_eps = S::<B>::simd_splat(<Element<B> as Float>::epsilon()).simd_sqrt();
     let a_floor = root_eps * m * g;
-    let thrust_ok = n.simd_gt(a_floor);
+    let ((b3, b3d, b3dd, q3, inv3), thrust_ok) = thrust_axis::<B>((u, ud, udd), n, a_floor, re3);
     let thrust_undefined = !thrust_ok;
-    let fallback = || (re3, z, z, s(0.0), s(0.0));
-    // One lane: `if n > a_floor`. Lanes: the regular construction, and the
-    // fallback blended into the lanes that need it.
-    let (b3, b3d, b3dd, q3, inv3) = if thrust_ok.all() {
-        unit_with_derivatives::<B>(u, ud, udd, n)
-    } else if !thrust_ok.any() {
-        fallback()
-    } else {
-        let (r, f) = (unit_with_derivatives::<B>(u, ud, udd, n), fallback());
-        let (v, sc) = (select_v::<B>, S::<B>::simd_select);
-        let k = thrust_ok;
-        (
-            v(k, r.0, f.0),
-            v(k, r.1, f.1),
-            v(k, r.2, f.2),
-            sc(k, r.3, f.3),
-            sc(k, r.4, f.4),
-        )
-    };
 
     // b2c = c/‖c‖, c = b3c × b1d; b1d ∥ b3c guarded. In the regular case
     // c = (u × b1d)/‖u‖, so b2c = (u × b1d)/‖u × b1d‖ and 1/‖c‖ =
     // ‖u‖/‖u × b1d‖: the two square roots and reciprocals do not wait on
     // each other (they are the longest chain of the law).
-    let mut b1d = (reference.b1d, reference.b1d_dot, reference.b1d_ddot);
+    let b1d = (reference.b1d, reference.b1d_dot, reference.b1d_ddot);
     let c_floor = root_eps * (one + norm::<B>(reference.b1d));
-    let cu = B::cross(u, b1d.0);
-    let ncu = norm::<B>(cu);
-    let regular = thrust_ok & ncu.simd_gt(c_floor * n);
-    let heading = || {
-        let inv_cu = one / ncu;
-        (cu * inv_cu, n * inv_cu)
-    };
-    let (b2, invc, heading_undefined) = if regular.all() {
-        let (b2, invc) = heading();
-        (b2, invc, Mask::<B>::splat(false))
-    } else if !regular.any() {
-        degenerate_heading::<B>(b3, &mut b1d, (rb1, rb2), c_floor)
-    } else {
-        let (b2, invc) = heading();
-        let mut b1d_f = b1d;
-        let (b2_f, invc_f, undefined) =
-            degenerate_heading::<B>(b3, &mut b1d_f, (rb1, rb2), c_floor);
-        b1d = (
-            select_v::<B>(regular, b1d.0, b1d_f.0),
-            select_v::<B>(regular, b1d.1, b1d_f.1),
-            select_v::<B>(regular, b1d.2, b1d_f.2),
-        );
-        (
-            select_v::<B>(regular, b2, b2_f),
-            S::<B>::simd_select(regular, invc, invc_f),
-            undefined & !regular,
-        )
-    };
+    let (b2, invc, b1d, heading_undefined) =
+        heading_axis::<B>((u, n), b3, b1d, (thrust_ok, c_floor), (rb1, rb2));
     let cd = B::cross(b3d, b1d.0) + B::cross(b3, b1d.1);
     let cdd = B::cross(b3dd, b1d.0) + B::cross(b3d, b1d.1) * two + B::cross(b3, b1d.2);
     let qc = B::dot(b2, cd);
