@@ -523,8 +523,10 @@ fn heading_axis<B: lie::SimdBackend>(
 /// vehicles' thrusts and moments). Each branch of the law (the
 /// saturation, the two degeneracy fallbacks) is taken lane by lane, and
 /// the returned [`Degeneracy`] says which lanes took a fallback. A NaN or
-/// ±∞ in an input gives NaN outputs (in that lane) instead of an error;
-/// call [`position_control`] for the checked law.
+/// ±∞ in an input gives NaN outputs (in that lane) instead of an error,
+/// with one exception on `f32`/`f64`: `sat_σ` clamps with `max`/`min`,
+/// which drop a NaN in `e_i` (on lanes the clamp is a select and keeps
+/// it). Call [`position_control`] for the checked law, which checks `e_i`.
 #[inline(always)]
 pub fn position_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     params: &RigidBodyParams<B>,
