@@ -89,21 +89,7 @@ where
                 x: lanes::vec3_from_fn::<S, L>(|i| at(i).x),
                 v: lanes::vec3_from_fn::<S, L>(|i| at(i).v),
                 e_i_pos: lanes::vec3_from_fn::<S, L>(|i| at(i).e_i_pos),
-                position: {
-                    let p = |f: fn(&PositionReference<S>) -> V3<S>| {
-                        lanes::vec3_from_fn::<S, L>(|i| f(&at(i).position))
-                    };
-                    PositionReference {
-                        x: p(|r| r.x),
-                        v: p(|r| r.v),
-                        a: p(|r| r.a),
-                        jerk: p(|r| r.jerk),
-                        snap: p(|r| r.snap),
-                        b1d: p(|r| r.b1d),
-                        b1d_dot: p(|r| r.b1d_dot),
-                        b1d_ddot: p(|r| r.b1d_ddot),
-                    }
-                },
+                position: PositionReference::from_lanes(|i| at(i).position),
             }
         })
         .collect()

@@ -309,19 +309,7 @@ macro_rules! compare_position {
                 r: $from(&rots),
                 omega: pack(3),
             };
-            let pick = |f: fn(&PositionReference<S>) -> lie::V3<S>| {
-                lie::lanes::vec3_from_fn::<S, L>(|i| f(&refs[i]))
-            };
-            let reference = PositionReference::<L> {
-                x: pick(|r| r.x),
-                v: pick(|r| r.v),
-                a: pick(|r| r.a),
-                jerk: pick(|r| r.jerk),
-                snap: pick(|r| r.snap),
-                b1d: pick(|r| r.b1d),
-                b1d_dot: pick(|r| r.b1d_dot),
-                b1d_ddot: pick(|r| r.b1d_ddot),
-            };
+            let reference = PositionReference::<L>::from_lanes(|i| refs[i]);
             let input = PositionInput {
                 state: &state,
                 e_i_pos: pack(4),
