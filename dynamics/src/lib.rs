@@ -80,7 +80,7 @@ pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, W
 /// inertial), position and velocity in the inertial frame, angular velocity
 /// in the body frame.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct RigidBodyState<B: Backend> {
+pub struct RigidBodyState<B: lie::SimdBackend> {
     /// Attitude, a rotation matrix mapping body vectors to inertial ones.
     pub r: M3<B>,
     /// Position of the centre of mass, inertial frame, m.

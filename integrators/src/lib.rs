@@ -66,6 +66,7 @@
 
 pub mod dense;
 mod dopri;
+pub mod lanes;
 mod lgvi;
 pub mod problems;
 mod rk;

@@ -4,14 +4,15 @@
 use dynamics::RigidBodyState;
 use lie::num_traits::Zero;
 use lie::{
-    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, So3Mat, V3, hat, right_jacobian_inv,
+    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3, hat,
+    right_jacobian_inv,
 };
 
 use crate::{Integrator, Load, State, StepError, StepStats, System};
 
 /// Time derivative of a state on the embedding.
 #[derive(Copy, Clone, Debug)]
-pub(crate) struct Deriv<B: Backend, const N: usize> {
+pub(crate) struct Deriv<B: SimdBackend, const N: usize> {
     pub r: M3<B>,
     pub x: V3<B>,
     pub v: V3<B>,
@@ -21,7 +22,7 @@ pub(crate) struct Deriv<B: Backend, const N: usize> {
 
 /// Body constants a step needs, read once per step.
 #[derive(Copy, Clone)]
-pub(crate) struct Body<B: Backend> {
+pub(crate) struct Body<B: SimdBackend> {
     pub j: M3<B>,
     pub j_inv: M3<B>,
     pub inv_mass: S<B>,
@@ -37,7 +38,9 @@ impl<B: Backend> Body<B> {
             translates: sys.translates(),
         }
     }
+}
 
+impl<B: SimdBackend> Body<B> {
     /// `Ω̇ = J⁻¹(M − Ω × JΩ)`.
     #[inline(always)]
     pub fn omega_dot(&self, w: V3<B>, moment: V3<B>) -> V3<B> {
@@ -77,7 +80,7 @@ pub(crate) fn eval<B: Backend, Sys: System<B, N> + ?Sized, const N: usize>(
 /// `y + h Σ c_i k_i` on the embedding (R included); `x`, `v` untouched when
 /// the body does not translate.
 #[inline(always)]
-pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
+pub(crate) fn combine<B: SimdBackend, const N: usize, const K: usize>(
     body: &Body<B>,
     y: &State<B, N>,
     h: S<B>,
@@ -107,7 +110,7 @@ pub(crate) fn combine<B: Backend, const N: usize, const K: usize>(
 
 /// `y + h Σ c_i k_i` for the extra states.
 #[inline(always)]
-fn extras<B: Backend, const N: usize, const K: usize>(
+fn extras<B: SimdBackend, const N: usize, const K: usize>(
     y: &State<B, N>,
     h: S<B>,
     terms: &[(S<B>, &Deriv<B, N>); K],
@@ -127,7 +130,7 @@ fn extras<B: Backend, const N: usize, const K: usize>(
 /// nine-number `R + h Σ c_i Ṙ_i` that [`combine`] does; `x`, `v` get no
 /// increment when the body does not translate.
 #[inline(always)]
-pub(crate) fn increment<B: Backend, const N: usize, const K: usize>(
+pub(crate) fn increment<B: SimdBackend, const N: usize, const K: usize>(
     body: &Body<B>,
     y: &State<B, N>,
     h: S<B>,
@@ -260,23 +263,8 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rk4 {
         y: &mut State<B, N>,
     ) -> Result<StepStats, StepError> {
         check_h::<B>(h)?;
-        let l = S::<B>::lit;
         let body = Body::of(sys);
-        let half = h * l(0.5);
-        let k1 = body.deriv(y, &eval(sys, t, y)?);
-        let y2 = combine(&body, y, h, [(l(0.5), &k1)]);
-        let k2 = body.deriv(&y2, &eval(sys, t + half, &y2)?);
-        let y3 = combine(&body, y, h, [(l(0.5), &k2)]);
-        let k3 = body.deriv(&y3, &eval(sys, t + half, &y3)?);
-        let y4 = combine(&body, y, h, [(l(1.0), &k3)]);
-        let k4 = body.deriv(&y4, &eval(sys, t + h, &y4)?);
-        let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
-        let mut next = combine(
-            &body,
-            y,
-            h,
-            [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
-        );
+        let mut next = rk4_stages(&body, |t, y| eval(sys, t, y), t, h, y)?;
         if self.projected {
             project(t, &mut next)?;
         }
@@ -287,6 +275,37 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rk4 {
             ..Default::default()
         })
     }
+}
+
+/// One classical RK4 step on the embedding from `(t, y)`: the stages and
+/// their combination, written once for one lane (the [`Rk4`] stepper,
+/// whose `load` fails on a non-finite load) and for SIMD lanes
+/// ([`crate::lanes::rk4_step`], whose `load` cannot fail: a lane gone
+/// non-finite stays so and its neighbours go on).
+#[inline(always)]
+pub(crate) fn rk4_stages<B: SimdBackend, E, const N: usize>(
+    body: &Body<B>,
+    mut load: impl FnMut(S<B>, &State<B, N>) -> Result<Load<B, N>, E>,
+    t: S<B>,
+    h: S<B>,
+    y: &State<B, N>,
+) -> Result<State<B, N>, E> {
+    let l = S::<B>::simd_lit;
+    let half = h * l(0.5);
+    let k1 = body.deriv(y, &load(t, y)?);
+    let y2 = combine(body, y, h, [(l(0.5), &k1)]);
+    let k2 = body.deriv(&y2, &load(t + half, &y2)?);
+    let y3 = combine(body, y, h, [(l(0.5), &k2)]);
+    let k3 = body.deriv(&y3, &load(t + half, &y3)?);
+    let y4 = combine(body, y, h, [(l(1.0), &k3)]);
+    let k4 = body.deriv(&y4, &load(t + h, &y4)?);
+    let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
+    Ok(combine(
+        body,
+        y,
+        h,
+        [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
+    ))
 }
 
 /// Runge–Kutta–Munthe-Kaas of order 4 on SO(3) × Rⁿ (right form

@@ -7,7 +7,7 @@ use lie::{Backend, M3, S, V3, ops};
 /// A rigid body plus `N` extra scalar states (integral terms of a
 /// controller, say), advanced together.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct State<B: Backend, const N: usize> {
+pub struct State<B: lie::SimdBackend, const N: usize> {
     /// Attitude, position, velocity, angular velocity.
     pub body: RigidBodyState<B>,
     /// Extra states.
@@ -56,7 +56,7 @@ impl<B: Backend, const N: usize> State<B, N> {
 /// disturbance), body moment without the gyroscopic term, and the extra
 /// states' rates.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Load<B: Backend, const N: usize> {
+pub struct Load<B: lie::SimdBackend, const N: usize> {
     /// Inertial-frame force, N.
     pub force: V3<B>,
     /// Body-frame moment, N m (everything except `−Ω × JΩ`).

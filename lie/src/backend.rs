@@ -323,6 +323,27 @@ pub mod ops {
     pub fn frob_norm<B: SimdBackend>(a: M3<B>) -> S<B> {
         frob_dot::<B>(a, a).simd_sqrt()
     }
+    /// `a` in the lanes where `mask` is set, `b` elsewhere (for one lane:
+    /// `if mask { a } else { b }`).
+    #[inline(always)]
+    pub fn select_vec<B: SimdBackend>(mask: <S<B> as SimdReal>::Mask, a: V3<B>, b: V3<B>) -> V3<B> {
+        let (a, b) = (B::vec3_to_array(a), B::vec3_to_array(b));
+        let s = |k: usize| S::<B>::simd_select(mask, a[k], b[k]);
+        B::vec3(s(0), s(1), s(2))
+    }
+    /// [`select_vec`] for matrices.
+    #[inline(always)]
+    pub fn select_mat<B: SimdBackend>(mask: <S<B> as SimdReal>::Mask, a: M3<B>, b: M3<B>) -> M3<B> {
+        let (a, b) = (B::mat3_cols(a), B::mat3_cols(b));
+        let s = |k: usize| select_vec::<B>(mask, a[k], b[k]);
+        B::mat3_from_cols(s(0), s(1), s(2))
+    }
+    /// Lane-wise: every component of `v` finite.
+    #[inline(always)]
+    pub fn finite_vec<B: SimdBackend>(v: V3<B>) -> <S<B> as SimdReal>::Mask {
+        let a = B::vec3_to_array(v);
+        a[0].simd_is_finite() & a[1].simd_is_finite() & a[2].simd_is_finite()
+    }
     /// True when no component is NaN or ±∞.
     #[inline(always)]
     pub fn is_finite_vec<B: Backend>(v: V3<B>) -> bool {

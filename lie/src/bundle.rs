@@ -14,7 +14,7 @@ use num_traits::Zero;
 
 use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, LieGroup, M3, Rotation, S, V3, so3};
+use crate::{Backend, LieGroup, M3, Rotation, S, SimdBackend, V3, so3};
 
 /// An element of SO(3) × ℝ³ × ℝ³ × ℝ³: the group operation is the
 /// rotation's composition and the vectors' sum (not a rigid motion's
@@ -34,7 +34,7 @@ pub struct RigidState<B: Backend, R> {
 /// A tangent vector of [`RigidState`]: coordinates `(φ, x, v, Ω)` in this
 /// order (twelve), `φ` the right perturbation of the attitude.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct RigidTangent<B: Backend> {
+pub struct RigidTangent<B: SimdBackend> {
     /// Rotation vector, on the right of the attitude.
     pub phi: V3<B>,
     /// Position increment.
@@ -45,7 +45,7 @@ pub struct RigidTangent<B: Backend> {
     pub omega: V3<B>,
 }
 
-impl<B: Backend> RigidTangent<B> {
+impl<B: SimdBackend> RigidTangent<B> {
     /// Builds a tangent from its parts.
     #[inline]
     pub fn new(phi: V3<B>, x: V3<B>, v: V3<B>, omega: V3<B>) -> Self {

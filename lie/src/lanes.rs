@@ -95,3 +95,17 @@ where
         z.simd_extract(i),
     )
 }
+
+/// The mask whose lane `i` is `f(i)`.
+#[inline]
+pub fn mask_from_fn<L: SimdBackend>(f: impl Fn(usize) -> bool) -> <L::Scalar as SimdReal>::Mask {
+    let one = <L::Scalar as num_traits::One>::one();
+    let v = <L::Scalar as SimdReal>::simd_from_fn(|i| {
+        if f(i) {
+            <<L::Scalar as SimdReal>::Element as num_traits::One>::one()
+        } else {
+            <<L::Scalar as SimdReal>::Element as num_traits::Zero>::zero()
+        }
+    });
+    v.simd_eq(one)
+}

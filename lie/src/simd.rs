@@ -32,6 +32,9 @@ pub trait SimdMask:
     fn splat(b: bool) -> Self;
     /// Lane `i` (`i` < the number of lanes; panics otherwise).
     fn extract(self, i: usize) -> bool;
+    /// Bit `i` set for each set lane `i`: one read of every lane, for a
+    /// loop over the lanes of a mask that is rarely all-clear.
+    fn bitmask(self) -> u64;
 }
 
 impl SimdMask for bool {
@@ -51,6 +54,10 @@ impl SimdMask for bool {
     #[inline(always)]
     fn any(self) -> bool {
         self
+    }
+    #[inline(always)]
+    fn bitmask(self) -> u64 {
+        u64::from(self)
     }
 }
 

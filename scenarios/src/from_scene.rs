@@ -474,7 +474,7 @@ pub(crate) fn multirotor_params<B: Backend>(scene: &Scene) -> MultirotorParams<B
 }
 
 /// The controller's view of the vehicle and the scene's gains.
-fn gains<B: Backend>(
+pub(crate) fn gains<B: Backend>(
     scene: &Scene,
     vehicle: &dyn Vehicle<B>,
 ) -> (

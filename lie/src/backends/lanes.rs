@@ -37,6 +37,10 @@ macro_rules! lane_mask {
             fn extract(self, i: usize) -> bool {
                 SimdValue::extract(&self, i)
             }
+            #[inline(always)]
+            fn bitmask(self) -> u64 {
+                SimdBool::bitmask(self)
+            }
         }
     };
 }

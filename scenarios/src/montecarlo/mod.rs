@@ -64,6 +64,8 @@
 //! ```
 
 mod experiments;
+#[cfg(feature = "simd")]
+mod lanes;
 mod near_pi;
 mod report;
 
@@ -71,6 +73,8 @@ pub use experiments::{
     DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup,
     parse_samples, write_samples,
 };
+#[cfg(feature = "simd")]
+pub use lanes::LaneUse;
 pub use near_pi::{NearPiAxis, near_pi};
 pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
@@ -200,7 +204,8 @@ pub enum Status {
     /// The simulation's divergence guard ended it.
     Diverged,
     /// A step failed (a non-finite state at this step size, an implicit
-    /// stepper without a solution).
+    /// stepper without a solution), or the law rejected a non-finite
+    /// state.
     Error,
 }
 
@@ -366,7 +371,9 @@ impl<D, S, G, M> Study<D, S, G, M> {
                 Termination::Completed => Status::Deadline,
                 Termination::Interrupted { .. } => return Ok(None),
             },
-            Err(SimError::Step { .. }) => Status::Error,
+            // A state gone non-finite is the sample's failure, whether the
+            // step noticed it or the law did at a record time in between.
+            Err(SimError::Step { .. } | SimError::Control { .. }) => Status::Error,
             Err(e) => return Err(e.clone()),
         };
         Ok(Some(Trial {
