@@ -103,6 +103,10 @@ pub struct McArgs {
     /// samples in ten thousand, several times faster.
     #[arg(long)]
     pub lanes: bool,
+    /// Do not locate the sat′ crossings of e_i (what `--lanes` does): a
+    /// step integrates across the kink.
+    #[arg(long)]
+    pub no_events: bool,
 }
 
 /// `merge` and `near-pi`.
@@ -142,6 +146,9 @@ fn setup_from_args(a: &McArgs) -> Setup {
         integrator: a.integrator.clone(),
         dt: a.dt,
         tol: a.tol,
+        // The lanes never locate sat′ crossings; recorded so that a
+        // sample's replay (`--index`, scalar) reproduces its row.
+        locate_events: !(a.no_events || a.lanes),
     }
 }
 
@@ -164,9 +171,12 @@ fn flags(setup: &Setup) -> String {
     opt("dt", setup.dt, d.dt);
     if setup.integrator != d.integrator {
         let _ = write!(f, " --integrator {}", setup.integrator);
-        if setup.integrator == "dopri" {
-            let _ = write!(f, " --tol {}", setup.tol);
-        }
+    }
+    if setup.integrator == "dopri" && setup.tol != d.tol {
+        let _ = write!(f, " --tol {}", setup.tol);
+    }
+    if !setup.locate_events {
+        f.push_str(" --no-events");
     }
     f
 }

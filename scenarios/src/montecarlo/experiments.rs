@@ -80,6 +80,17 @@ pub struct Setup {
     pub dt: f64,
     /// dopri tolerance.
     pub tol: f64,
+    /// Locate the sat′ crossings of `e_i` and split steps there (the
+    /// scenes' default). Off, a step integrates across the kink: 50 of the
+    /// 10 000 samples of seed 1 change class (near-singular passages
+    /// decided by it), the others keep their time to converge within
+    /// 0.006 s (99th percentile). The lane path runs with it off.
+    #[serde(default = "locate_by_default")]
+    pub locate_events: bool,
+}
+
+fn locate_by_default() -> bool {
+    true
 }
 
 /// A sample's random initial condition.
@@ -141,6 +152,7 @@ impl Default for Setup {
             integrator: "dopri".into(),
             dt: 0.02,
             tol: 1e-6,
+            locate_events: true,
         }
     }
 }
@@ -263,6 +275,7 @@ impl Setup {
         s.integrator.kind = self.integrator.clone();
         s.integrator.dt = self.dt;
         s.integrator.tol = self.tol;
+        s.integrator.locate_events = self.locate_events;
         s.duration = self.deadline;
         // Peaks (thrust, rotor thrust) are taken over this grid; dopri's
         // calls end on it.
@@ -297,7 +310,8 @@ impl Setup {
             .dt(self.dt)
             .duration(self.deadline)
             .record_every(sc.record.sample)
-            .guard(guard);
+            .guard(guard)
+            .locate_events(self.locate_events);
         for seg in plan {
             b = b.segment(seg);
         }

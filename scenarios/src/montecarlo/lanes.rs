@@ -207,6 +207,10 @@ impl Model {
     }
 }
 
+/// How a sample ended: its status and, unless cut off inside a call, its
+/// final Ψ, ‖e_x‖ and step count.
+type End = (Status, Option<(f64, f64, u64)>);
+
 /// One lane's sample while it flies.
 struct Flight {
     index: u64,
@@ -232,7 +236,7 @@ impl Flight {
 
     /// The row, with the end figures (NaN and 0 steps for a lane cut off
     /// inside a call, as the scalar path reports it).
-    fn outcome(self, status: Status, end: Option<(f64, f64, u64)>) -> Outcome {
+    fn outcome(self, (status, end): End) -> Outcome {
         let (final_psi, final_ex, steps) = end.unwrap_or((f64::NAN, f64::NAN, 0));
         let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
         Outcome {
@@ -296,7 +300,7 @@ impl Shared<'_> {
         rows.push(row);
         let n = self.done.fetch_add(1, Ordering::Relaxed) + 1;
         if let Some(p) = self.progress
-            && n % 64 == 0
+            && n.is_multiple_of(64)
         {
             p(n as u64);
         }
@@ -341,7 +345,7 @@ impl Shared<'_> {
                     None
                 };
                 if let Some((status, figures)) = end {
-                    let row = lane.take().map(|f| f.outcome(status, figures));
+                    let row = lane.take().map(|f| f.outcome((status, figures)));
                     if let Some(row) = row {
                         self.finish(&mut rows, row);
                     }
@@ -369,7 +373,7 @@ fn arrive(
     dopri: &DopriLanes<L, 6>,
     sys: &PositionLoop,
     i: usize,
-) -> Option<(Status, Option<(f64, f64, u64)>)> {
+) -> Option<End> {
     let body = &dopri.state().body;
     let t = dopri.calls(i) as f64 * setup.dt;
     let norm = |v: V3<L>| {
@@ -426,6 +430,12 @@ impl Setup {
                     "`{}`: the lane path integrates with dopri only (a fixed-step rk4 at 0.01 s classified 2.5 % of samples differently from dopri)",
                     self.integrator
                 ),
+            });
+        }
+        if self.locate_events {
+            return Err(SimError::Setting {
+                field: "locate_events",
+                message: "true: the lane path does not locate sat′ crossings; set it to false (its rows then equal the scalar path's with the same setup)".into(),
             });
         }
         let model = Model::new(self)?;
