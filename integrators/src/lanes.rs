@@ -115,21 +115,32 @@ where
     }
 }
 
+/// Lane `i` is the scalar state `f(i)`.
+pub fn state_from_fn<E, B, const N: usize>(f: impl Fn(usize) -> State<E, N>) -> State<B, N>
+where
+    E: Backend,
+    B: SimdBackend<Scalar: SimdReal<Element = E::Scalar>>,
+{
+    let v =
+        |part: fn(&State<E, N>) -> lie::V3<E>| lie::lanes::vec3_from_fn::<E, B>(|i| part(&f(i)));
+    State {
+        body: dynamics::RigidBodyState {
+            r: lie::lanes::mat3_from_fn::<E, B>(|i| f(i).body.r),
+            x: v(|s| s.body.x),
+            v: v(|s| s.body.v),
+            omega: v(|s| s.body.omega),
+        },
+        extra: core::array::from_fn(|k| S::<B>::simd_from_fn(|i| f(i).extra[k])),
+    }
+}
+
 /// `y` with lane `i` replaced by the scalar state `s`.
 pub fn with_lane<E, B, const N: usize>(y: &State<B, N>, i: usize, s: &State<E, N>) -> State<B, N>
 where
     E: Backend,
     B: SimdBackend<Scalar: SimdReal<Element = E::Scalar>>,
 {
-    let splat = State::<B, N> {
-        body: dynamics::RigidBodyState {
-            r: lie::lanes::mat3_from_fn::<E, B>(|_| s.body.r),
-            x: lie::lanes::vec3_from_fn::<E, B>(|_| s.body.x),
-            v: lie::lanes::vec3_from_fn::<E, B>(|_| s.body.v),
-            omega: lie::lanes::vec3_from_fn::<E, B>(|_| s.body.omega),
-        },
-        extra: s.extra.map(S::<B>::simd_splat),
-    };
+    let splat = state_from_fn::<E, B, N>(|_| *s);
     select_state(lie::lanes::mask_from_fn::<B>(|j| j == i), &splat, y)
 }
 

@@ -41,14 +41,17 @@ fn setup(json: Option<&str>) -> PyResult<Setup> {
 /// `threads` threads (None: one per core), with the interpreter's lock
 /// released; Ctrl-C stops it and raises `KeyboardInterrupt`. Returns the
 /// columns of `samples.csv` and its text (`csv`), byte for byte what
-/// `cargo xtask montecarlo` writes for the same setup.
+/// `cargo xtask montecarlo` writes for the same setup. With `lanes`, on
+/// SIMD lanes (`Setup::run_lanes`; the setup must have
+/// `locate_events = false`).
 #[pyfunction]
-#[pyo3(signature = (setup_json=None, indices=None, threads=None))]
+#[pyo3(signature = (setup_json=None, indices=None, threads=None, lanes=false))]
 pub(crate) fn montecarlo<'py>(
     py: Python<'py>,
     setup_json: Option<&str>,
     indices: Option<Vec<u64>>,
     threads: Option<usize>,
+    lanes: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = setup(setup_json)?;
     if threads == Some(0) {
@@ -56,7 +59,12 @@ pub(crate) fn montecarlo<'py>(
     }
     let indices = indices.unwrap_or_else(|| (0..s.samples).collect());
     let rows = interruptible(py, |cancel| {
-        s.run_until_cancelled(&indices, threads, None, cancel)
+        if lanes {
+            s.run_lanes_until_cancelled(&indices, threads, None, cancel)
+                .map(|(rows, _)| rows)
+        } else {
+            s.run_until_cancelled(&indices, threads, None, cancel)
+        }
     })?
     .map_err(|e| sim_error(py, &e))?;
     columns(py, &rows)

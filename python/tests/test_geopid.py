@@ -435,7 +435,22 @@ def test_montecarlo_errors():
         geopid.montecarlo("attitude", samples=1, threads=0)
 
 
+def test_montecarlo_on_lanes_equals_the_scalar_rows_without_event_location():
+    """The lane path runs each sample's operations in the scalar path's
+    order, without locating sat′ crossings: class, time to converge and
+    step count equal the scalar rows with ``locate_events=False``."""
+    lanes = geopid.montecarlo("position", samples=40, seed=3, lanes=True)
+    scalar = geopid.montecarlo("position", samples=40, seed=3, locate_events=False)
+    assert list(lanes["status"]) == list(scalar["status"])
+    assert np.array_equal(lanes["steps"], scalar["steps"])
+    assert np.array_equal(lanes["t_converge"], scalar["t_converge"], equal_nan=True)
+    with pytest.raises(ValueError, match="position experiment only") as e:
+        geopid.montecarlo("attitude", samples=1, lanes=True)
+    assert e.value.field == "experiment"
+
+
 @pytest.mark.parametrize("call", [
+    "geopid.montecarlo('position', samples=100000, seed=1, lanes=True)",
     "geopid.montecarlo('position', samples=100000, seed=1)",
     "geopid.run('hover-disturbed', duration=1e5, sample=1.0)",
     "geopid.run('hover-disturbed', duration=1e5, sample=1.0, reference=lambda t: ((0.0, 0.0, 0.0),))",

@@ -55,6 +55,8 @@ mod dynamic;
 pub mod figures;
 mod from_scene;
 pub mod gains;
+#[cfg(feature = "simd")]
+pub mod lanes;
 pub mod metrics;
 pub mod montecarlo;
 pub mod output;

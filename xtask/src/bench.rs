@@ -33,6 +33,7 @@ use std::process::{Command, Stdio};
 
 use scenarios::scene::{BackendKind, Scalar};
 
+mod lanes;
 mod lie_table;
 mod mcap_log;
 
@@ -84,9 +85,24 @@ fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
     b
 }
 
-fn criterion(package: &str, bench: &str, filter: &str, quick: bool) -> Result<(), String> {
+/// `cargo bench -q -p PACKAGE [--features F] --bench BENCH -- [FILTER]`
+/// (`package` may name several, space-separated: one build for all).
+fn criterion(
+    package: &str,
+    features: Option<&str>,
+    bench: &str,
+    filter: &str,
+    quick: bool,
+) -> Result<(), String> {
     let mut cmd = Command::new(env!("CARGO"));
-    cmd.args(["bench", "-q", "-p", package, "--bench", bench, "--"])
+    cmd.args(["bench", "-q"]);
+    for p in package.split(' ') {
+        cmd.args(["-p", p]);
+    }
+    if let Some(f) = features {
+        cmd.args(["--features", f]);
+    }
+    cmd.args(["--bench", bench, "--"])
         .current_dir(workspace_root())
         .stdout(Stdio::null());
     if !filter.is_empty() {
@@ -191,15 +207,23 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let started = std::time::Instant::now();
     if !a.no_run {
-        let b = bar(3, "criterion");
+        let b = bar(4, "criterion");
         eprintln!(
-            "running criterion benches (controllers update, scenarios step, lie vs the backends' own types)…"
+            "running criterion benches (controllers update, scenarios step, lie vs the backends' own types, the lanes)…"
         );
-        criterion("controllers", "update", "", a.quick)?;
+        criterion("controllers", None, "update", "", a.quick)?;
         b.inc(1);
-        criterion("scenarios", "step", "", a.quick)?;
+        criterion("scenarios", None, "step", "", a.quick)?;
         b.inc(1);
-        criterion("lie", "lie", "vs-native", a.quick)?;
+        criterion("lie", None, "lie", "vs-native", a.quick)?;
+        b.inc(1);
+        criterion(
+            "controllers scenarios",
+            Some("controllers/simd,scenarios/simd"),
+            "lanes",
+            "",
+            a.quick,
+        )?;
         b.inc(1);
         b.finish_and_clear();
     }
@@ -250,6 +274,8 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     let mut raw = Vec::new();
     crate::collect(&crit, &mut raw)?;
     lie_table(&raw, true);
+    lanes::lanes_table(&raw);
+    lanes::throughput(a.quick);
     let summary = out_dir.join("summary.csv");
     std::fs::write(&summary, csv).map_err(|e| format!("{}: {e}", summary.display()))?;
 

@@ -15,20 +15,20 @@
 //! count, not the class or the time to converge (interpolated as before).
 
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionInput, PositionReference,
     RigidBodyParams, VehicleState, position_law,
 };
 use dynamics::{RigidBodyState, Vehicle, Wrench};
-use integrators::lanes::{DopriLanes, LaneFailure, LaneSystem};
-use integrators::{Load, State};
-use lie::num_traits::Zero;
-use lie::{Backend, GlamF64, M3, NalgebraF64x4, S, SimdMask, SimdReal, So3Mat, V3};
+use integrators::State;
+use integrators::lanes::{DopriLanes, LaneFailure};
+use lie::{Backend, GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, So3Mat, V3};
 
 use super::experiments::{DIVERGED_OMEGA, DIVERGED_X, Initial, MAX_SUBSTEPS, Outcome, Setup};
 use super::{Settled, Status};
+use crate::lanes::PositionLoop;
 use crate::sim::SimError;
 
 /// The scalar backend of the scalar path, whose lanes these are.
@@ -55,75 +55,6 @@ impl LaneUse {
             0.0
         } else {
             self.idle as f64 / all as f64
-        }
-    }
-}
-
-/// The free quadrotor under the position law, on lanes: what the scalar
-/// path's closed loop computes for the position experiment.
-struct PositionLoop {
-    params: RigidBodyParams<L>,
-    pos: PositionGains<L>,
-    att: AttitudeGains<L>,
-    reference: PositionReference<L>,
-    weight: S<L>,
-    delta_x: V3<L>,
-    delta_r: V3<L>,
-    inertia_inv: M3<L>,
-    /// The command of the last load evaluation (the last stage of a
-    /// substep: the end state, when the substep was accepted).
-    thrust: S<L>,
-    moment: V3<L>,
-    psi: S<L>,
-}
-
-impl LaneSystem<L, 6> for PositionLoop {
-    fn mass(&self) -> S<L> {
-        self.params.mass
-    }
-    fn inertia(&self) -> M3<L> {
-        self.params.inertia
-    }
-    fn inertia_inv(&self) -> M3<L> {
-        self.inertia_inv
-    }
-    #[inline(always)]
-    fn load(&mut self, _t: S<L>, y: &State<L, 6>) -> Load<L, 6> {
-        let [a0, a1, a2, p0, p1, p2] = y.extra;
-        let state = VehicleState {
-            x: y.body.x,
-            v: y.body.v,
-            r: So3Mat::<L>::from_matrix_unchecked(y.body.r),
-            omega: y.body.omega,
-        };
-        let out = position_law(
-            &self.params,
-            &self.pos,
-            &self.att,
-            &PositionInput {
-                state: &state,
-                e_i_pos: <L as lie::SimdBackend>::vec3(p0, p1, p2),
-                e_i_att: <L as lie::SimdBackend>::vec3(a0, a1, a2),
-                reference: &self.reference,
-                model: AccelerationModel::Nominal,
-            },
-        );
-        self.thrust = out.thrust;
-        self.moment = out.moment;
-        self.psi = out.psi;
-        // `dynamics::loads_applied` for a quadrotor without rotor limits.
-        let z = S::<L>::zero();
-        let [_, _, b3] = <L as lie::SimdBackend>::mat3_cols(y.body.r);
-        let force =
-            <L as lie::SimdBackend>::vec3(z, z, self.weight) - b3 * out.thrust + self.delta_x;
-        let (a, p) = (
-            <L as lie::SimdBackend>::vec3_to_array(out.e_i_att_rate),
-            <L as lie::SimdBackend>::vec3_to_array(out.e_i_pos_rate),
-        );
-        Load {
-            force,
-            moment: out.moment + self.delta_r,
-            extra_rate: [a[0], a[1], a[2], p[0], p[1], p[2]],
         }
     }
 }
@@ -156,28 +87,18 @@ impl Model {
         })
     }
 
-    fn lanes(&self) -> Result<PositionLoop, SimError> {
-        let d = self.vehicle.disturbance(0.0, &RigidBodyState::at_rest());
-        let zero = E::vec3(0.0, 0.0, 0.0);
-        let (dx, dr) = d.map_or((zero, zero), |d| (d.force, d.moment));
-        let inv = lie::ops::inverse::<E>(self.params.inertia).ok_or(SimError::Setting {
+    fn lanes(&self) -> Result<PositionLoop<L>, SimError> {
+        PositionLoop::splat(
+            &self.params,
+            &self.pos,
+            &self.att,
+            self.model,
+            &self.reference,
+            self.vehicle.disturbance(0.0, &RigidBodyState::at_rest()),
+        )
+        .ok_or(SimError::Setting {
             field: "vehicle",
             message: "its inertia is singular".into(),
-        })?;
-        let splat = |v: V3<E>| lie::lanes::vec3_from_fn::<E, L>(|_| v);
-        let s = S::<L>::simd_splat;
-        Ok(PositionLoop {
-            params: RigidBodyParams::splat(&self.params),
-            pos: PositionGains::splat(&self.pos),
-            att: AttitudeGains::splat(&self.att),
-            reference: PositionReference::from_lanes(|_| self.reference),
-            weight: s(self.params.mass * self.params.gravity),
-            delta_x: splat(dx),
-            delta_r: splat(dr),
-            inertia_inv: lie::lanes::mat3_from_fn::<E, L>(|_| inv),
-            thrust: S::<L>::zero(),
-            moment: splat(zero),
-            psi: S::<L>::zero(),
         })
     }
 
@@ -271,11 +192,15 @@ struct Shared<'a> {
     progress: Option<&'a (dyn Fn(u64) + Sync)>,
     rows: Mutex<Vec<Outcome>>,
     usage: Mutex<LaneUse>,
+    cancel: Option<&'a AtomicBool>,
 }
 
 impl Shared<'_> {
     /// The next sample from the queue: its flight and initial state.
     fn take(&self) -> Option<(Flight, State<E, 6>)> {
+        if self.cancelled() {
+            return None;
+        }
         let k = self.next.fetch_add(1, Ordering::Relaxed);
         let index = *self.indices.get(k)?;
         let init = self.setup.initial(index);
@@ -294,6 +219,10 @@ impl Shared<'_> {
         let (thrust, moment) = self.model.command_at_start(&body);
         f.peaks(self.model.vehicle.as_ref(), thrust, moment);
         Some((f, State::new(body)))
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
     fn finish(&self, rows: &mut Vec<Outcome>, row: Outcome) {
@@ -322,7 +251,8 @@ impl Shared<'_> {
             }
         }
         let vehicle = self.model.vehicle.as_ref();
-        while lanes.iter().any(Option::is_some) {
+        // A cancelled run keeps the rows of the samples finished so far.
+        while lanes.iter().any(Option::is_some) && !self.cancelled() {
             let step = dopri.substep(&mut sys);
             let busy = lanes.iter().filter(|l| l.is_some()).count() as u64;
             usage.busy += busy;
@@ -371,7 +301,7 @@ fn arrive(
     setup: &Setup,
     vehicle: &dyn Vehicle<E>,
     dopri: &DopriLanes<L, 6>,
-    sys: &PositionLoop,
+    sys: &PositionLoop<L>,
     i: usize,
 ) -> Option<End> {
     let body = &dopri.state().body;
@@ -381,13 +311,14 @@ fn arrive(
         (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
     };
     let (omega, ex) = (norm(body.omega), norm(body.x));
-    let psi = sys.psi.simd_extract(i);
+    let last = sys.last();
+    let psi = last.psi.simd_extract(i);
     let figures = Some((psi, ex, dopri.accepted(i)));
     if omega > DIVERGED_OMEGA || ex > DIVERGED_X {
         return Some((Status::Diverged, figures));
     }
-    let thrust = sys.thrust.simd_extract(i);
-    let moment = lie::lanes::vec3_lane::<E, L>(sys.moment, i);
+    let thrust = last.thrust.simd_extract(i);
+    let moment = lie::lanes::vec3_lane::<E, L>(last.moment, i);
     f.peaks(vehicle, thrust, moment);
     let metric = (psi / setup.psi_tol).max(ex / setup.x_tol);
     if f.settled.check(t, metric) {
@@ -412,6 +343,28 @@ impl Setup {
         indices: &[u64],
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
+    ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
+        self.lanes_until(indices, threads, progress, None)
+    }
+
+    /// [`Setup::run_lanes`] that stops when `cancel` is set: the rows of
+    /// the samples finished by then, in index order.
+    pub fn run_lanes_until_cancelled(
+        &self,
+        indices: &[u64],
+        threads: Option<usize>,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+        cancel: &AtomicBool,
+    ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
+        self.lanes_until(indices, threads, progress, Some(cancel))
+    }
+
+    fn lanes_until(
+        &self,
+        indices: &[u64],
+        threads: Option<usize>,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+        cancel: Option<&AtomicBool>,
     ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
         self.validate()?;
         if self.experiment != "position" {
@@ -448,6 +401,7 @@ impl Setup {
             progress,
             rows: Mutex::new(Vec::with_capacity(indices.len())),
             usage: Mutex::new(LaneUse::default()),
+            cancel,
         };
         let threads = threads
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))

@@ -1,0 +1,94 @@
+//! `cargo bench -p scenarios --features simd --bench lanes`: one RK4 step
+//! of the closed loop (`scenarios::lanes::PositionLoop`: the position law,
+//! the quadrotor's loads with Δ_x and Δ_R, six integral states) for a
+//! batch of [`BATCH`] scenes, one scene per call on the scalar backends
+//! and four or eight per call on the lane backends: the same generic code
+//! each time. Criterion's throughput is the batch, so its time per element
+//! is per scene and step.
+
+use controllers::{
+    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
+};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use dynamics::{Disturbance, RigidBodyState};
+use integrators::State;
+use integrators::lanes::rk4_step;
+use lie::{
+    Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal,
+    So3Mat,
+};
+use scenarios::lanes::PositionLoop;
+use std::hint::black_box;
+
+/// Scenes per timed iteration.
+const BATCH: usize = 64;
+
+/// Scene `i`'s state mid-flight (all different, none degenerate).
+fn scene<S: Backend>(i: usize) -> State<S, 6> {
+    let t = i as f64 * 0.37;
+    let v =
+        |a: f64, b: f64, c: f64| S::vec3(S::Scalar::lit(a), S::Scalar::lit(b), S::Scalar::lit(c));
+    let mut y = State::new(RigidBodyState {
+        r: So3Mat::<S>::exp(v(0.6 * t.sin(), 0.4 * t.cos(), -0.8 * (2.0 * t).sin())).as_matrix(),
+        x: v(0.3 * t.cos(), -0.2, 0.5 * t.sin()),
+        v: v(0.5, 0.1 * t.sin(), -0.3),
+        omega: v(0.4 * t.cos(), -0.7, 0.2 * t.sin()),
+    });
+    y.extra = [0.01, -0.02, 0.005, 0.02, -0.01, 0.03].map(|c| S::Scalar::lit(c * t.cos()));
+    y
+}
+
+fn bench_lanes<S, L>(c: &mut Criterion)
+where
+    S: Backend,
+    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
+{
+    let n = <L::Scalar as SimdReal>::LANES;
+    let d = |a: [f64; 3]| {
+        S::vec3(
+            S::Scalar::lit(a[0]),
+            S::Scalar::lit(a[1]),
+            S::Scalar::lit(a[2]),
+        )
+    };
+    let hold = PositionReference::<S>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
+    let disturbance = Disturbance {
+        force: d(controllers::paper::DELTA_X),
+        moment: d(controllers::paper::DELTA_R),
+    };
+    let mut sys = PositionLoop::<L>::splat(
+        &RigidBodyParams::<S>::paper(),
+        &PositionGains::<S>::paper(),
+        &AttitudeGains::<S>::paper(),
+        AccelerationModel::Nominal,
+        &hold,
+        Some(disturbance),
+    )
+    .expect("the paper's inertia is invertible");
+    let start: Vec<State<L, 6>> = (0..BATCH / n)
+        .map(|g| integrators::lanes::state_from_fn::<S, L, 6>(|i| scene::<S>(g * n + i)))
+        .collect();
+    let (t, h) = (L::Scalar::simd_lit(0.0), L::Scalar::simd_lit(1e-3));
+    let mut g = c.benchmark_group("lanes/step-rk4");
+    g.throughput(Throughput::Elements(BATCH as u64));
+    g.bench_function(L::NAME, |b| {
+        b.iter(|| {
+            let mut ys = start.clone();
+            for y in ys.iter_mut() {
+                rk4_step(&mut sys, t, h, black_box(y));
+            }
+            black_box(ys)
+        })
+    });
+    g.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    bench_lanes::<NalgebraF64, NalgebraF64>(c);
+    bench_lanes::<NalgebraF64, NalgebraF64x4>(c);
+    bench_lanes::<NalgebraF32, NalgebraF32>(c);
+    bench_lanes::<NalgebraF32, NalgebraF32x8>(c);
+}
+
+criterion_group!(lanes_bench, benches);
+criterion_main!(lanes_bench);

@@ -1,0 +1,154 @@
+//! Closed loops on SIMD lanes (feature `simd`): the systems
+//! `integrators::lanes` advances, one vehicle per lane. The same code runs
+//! on a scalar backend (one lane), which is how its lanes are checked and
+//! timed against the scalar path.
+
+use controllers::{
+    AccelerationModel, AttitudeGains, PositionGains, PositionInput, PositionReference,
+    RigidBodyParams, VehicleState, position_law,
+};
+use dynamics::Disturbance;
+use integrators::lanes::LaneSystem;
+use integrators::{Load, State};
+use lie::num_traits::Zero;
+use lie::{Backend, M3, S, SimdBackend, SimdReal, So3Mat, V3};
+
+/// The free quadrotor under the position law with constant disturbances
+/// `Δ_x`, `Δ_R`, no rotor limits: force `m g e3 − f R e3 + Δ_x`, moment
+/// `M + Δ_R`, the integral register `[e_I, e_i]` in the six extra states
+/// (what the scalar simulation computes for a position segment on a
+/// `Quadrotor` with a fixed disturbance). Every lane flies the same vehicle,
+/// gains and reference; the lanes differ in their states.
+///
+/// The command of the last load evaluation is kept ([`PositionLoop::last`]):
+/// after an accepted Dormand–Prince substep that is the command at its end
+/// state (first same as last), so a driver reads Ψ and the thrust without
+/// evaluating the law again.
+pub struct PositionLoop<L: SimdBackend> {
+    params: RigidBodyParams<L>,
+    pos: PositionGains<L>,
+    att: AttitudeGains<L>,
+    model: AccelerationModel<L>,
+    reference: PositionReference<L>,
+    weight: S<L>,
+    delta_x: V3<L>,
+    delta_r: V3<L>,
+    inertia_inv: M3<L>,
+    last: Command<L>,
+}
+
+/// What a driver reads of the law's output between steps.
+#[derive(Copy, Clone, Debug)]
+pub struct Command<L: SimdBackend> {
+    /// Thrust `f`, N.
+    pub thrust: S<L>,
+    /// Moment `M` (without `Δ_R`), N m.
+    pub moment: V3<L>,
+    /// `Ψ(R, R_c)`.
+    pub psi: S<L>,
+}
+
+impl<L: SimdBackend> PositionLoop<L> {
+    /// The loop of one vehicle (scalar backend `E`, the lanes' element
+    /// type) copied into every lane; `None` for a singular inertia.
+    #[allow(clippy::too_many_arguments)]
+    pub fn splat<E>(
+        params: &RigidBodyParams<E>,
+        pos: &PositionGains<E>,
+        att: &AttitudeGains<E>,
+        model: AccelerationModel<E>,
+        reference: &PositionReference<E>,
+        disturbance: Option<Disturbance<E>>,
+    ) -> Option<Self>
+    where
+        E: Backend,
+        L: SimdBackend<Scalar: SimdReal<Element = E::Scalar>>,
+    {
+        let inv = lie::ops::inverse::<E>(params.inertia)?;
+        let zero = E::vec3(E::Scalar::zero(), E::Scalar::zero(), E::Scalar::zero());
+        let (dx, dr) = disturbance.map_or((zero, zero), |d| (d.force, d.moment));
+        let splat = |v: V3<E>| lie::lanes::vec3_from_fn::<E, L>(|_| v);
+        let model = match model {
+            AccelerationModel::Nominal => AccelerationModel::Nominal,
+            AccelerationModel::NominalWithoutEstimate => AccelerationModel::NominalWithoutEstimate,
+            AccelerationModel::Measured { accel, jerk } => AccelerationModel::Measured {
+                accel: splat(accel),
+                jerk: splat(jerk),
+            },
+        };
+        Some(Self {
+            params: RigidBodyParams::splat(params),
+            pos: PositionGains::splat(pos),
+            att: AttitudeGains::splat(att),
+            model,
+            reference: PositionReference::from_lanes(|_| *reference),
+            weight: S::<L>::simd_splat(params.mass * params.gravity),
+            delta_x: splat(dx),
+            delta_r: splat(dr),
+            inertia_inv: lie::lanes::mat3_from_fn::<E, L>(|_| inv),
+            last: Command {
+                thrust: S::<L>::zero(),
+                moment: splat(zero),
+                psi: S::<L>::zero(),
+            },
+        })
+    }
+
+    /// The command of the last load evaluation (zeros before the first).
+    pub fn last(&self) -> Command<L> {
+        self.last
+    }
+}
+
+impl<L: SimdBackend> LaneSystem<L, 6> for PositionLoop<L> {
+    fn mass(&self) -> S<L> {
+        self.params.mass
+    }
+    fn inertia(&self) -> M3<L> {
+        self.params.inertia
+    }
+    fn inertia_inv(&self) -> M3<L> {
+        self.inertia_inv
+    }
+    #[inline(always)]
+    fn load(&mut self, _t: S<L>, y: &State<L, 6>) -> Load<L, 6> {
+        let [a0, a1, a2, p0, p1, p2] = y.extra;
+        let state = VehicleState {
+            x: y.body.x,
+            v: y.body.v,
+            r: So3Mat::<L>::from_matrix_unchecked(y.body.r),
+            omega: y.body.omega,
+        };
+        let out = position_law(
+            &self.params,
+            &self.pos,
+            &self.att,
+            &PositionInput {
+                state: &state,
+                e_i_pos: L::vec3(p0, p1, p2),
+                e_i_att: L::vec3(a0, a1, a2),
+                reference: &self.reference,
+                model: self.model,
+            },
+        );
+        // `dynamics::loads_applied` for a quadrotor without rotor limits.
+        let z = S::<L>::zero();
+        let [_, _, b3] = L::mat3_cols(y.body.r);
+        let force = L::vec3(z, z, self.weight) - b3 * out.thrust + self.delta_x;
+        let (a, p) = (
+            L::vec3_to_array(out.e_i_att_rate),
+            L::vec3_to_array(out.e_i_pos_rate),
+        );
+        let moment = out.moment + self.delta_r;
+        self.last = Command {
+            thrust: out.thrust,
+            moment: out.moment,
+            psi: out.psi,
+        };
+        Load {
+            force,
+            moment,
+            extra_rate: [a[0], a[1], a[2], p[0], p[1], p[2]],
+        }
+    }
+}

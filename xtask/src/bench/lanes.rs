@@ -1,0 +1,151 @@
+//! The lane rows of `cargo xtask bench`: the criterion medians of the
+//! control laws and of one closed-loop RK4 step per scene (`controllers`
+//! and `scenarios` benches `lanes`), one lane against four or eight, and
+//! the position updates per second of every core at once.
+
+use std::collections::BTreeMap;
+use std::hint::black_box;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use controllers::{
+    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
+};
+use dynamics::RigidBodyState;
+use integrators::State;
+use integrators::lanes::LaneSystem;
+use lie::{
+    Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal,
+    So3Mat,
+};
+use scenarios::lanes::PositionLoop;
+
+/// The groups of the lane benches and their names here.
+const GROUPS: [(&str, &str); 3] = [
+    ("lanes/attitude", "attitude_law"),
+    ("lanes/position", "position_law"),
+    ("lanes/step-rk4", "closed-loop RK4 step"),
+];
+
+/// (one lane, lanes) of each precision.
+const PAIRS: [(&str, &str); 2] = [
+    ("nalgebra-f64", "nalgebra-f64x4"),
+    ("nalgebra-f32", "nalgebra-f32x8"),
+];
+
+/// Prints the lane benches' medians (ns per vehicle or scene) with the
+/// speed-up of the lanes over one lane; returns `(what, pair, ns)` rows.
+pub fn lanes_table(raw: &[(String, f64)]) -> Vec<(String, String, f64)> {
+    let medians: BTreeMap<&str, f64> = raw.iter().map(|(id, m)| (id.as_str(), *m)).collect();
+    let mut rows = Vec::new();
+    println!("\n| per vehicle or scene | one lane | ns | lanes | ns | speed-up |");
+    println!("|---|---|---|---|---|---|");
+    for (group, what) in GROUPS {
+        for (one, many) in PAIRS {
+            let get = |pair: &str| medians.get(format!("{group}/{pair}").as_str()).copied();
+            let (Some(a), Some(b)) = (get(one), get(many)) else {
+                continue;
+            };
+            println!(
+                "| {what} | {one} | {a:.1} | {many} | {b:.1} | {:.2} |",
+                a / b
+            );
+            rows.push((what.to_string(), one.to_string(), a));
+            rows.push((what.to_string(), many.to_string(), b));
+        }
+    }
+    rows
+}
+
+/// A scene mid-flight, different for each `i`.
+fn scene<S: Backend>(i: usize) -> State<S, 6> {
+    let t = i as f64 * 0.37;
+    let v =
+        |a: f64, b: f64, c: f64| S::vec3(S::Scalar::lit(a), S::Scalar::lit(b), S::Scalar::lit(c));
+    let mut y = State::new(RigidBodyState {
+        r: So3Mat::<S>::exp(v(0.6 * t.sin(), 0.4 * t.cos(), -0.8 * (2.0 * t).sin())).as_matrix(),
+        x: v(0.3 * t.cos(), -0.2, 0.5 * t.sin()),
+        v: v(0.5, 0.1 * t.sin(), -0.3),
+        omega: v(0.4 * t.cos(), -0.7, 0.2 * t.sin()),
+    });
+    y.extra = [0.01, -0.02, 0.005, 0.02, -0.01, 0.03].map(|c| S::Scalar::lit(c * t.cos()));
+    y
+}
+
+/// Position-law evaluations (with the loads: `PositionLoop::load`) per
+/// second on `threads` threads at once for `run`, 64 scenes per thread.
+fn updates_per_second<S, L>(threads: usize, run: Duration) -> f64
+where
+    S: Backend,
+    L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
+{
+    let n = <L::Scalar as SimdReal>::LANES;
+    let d = |a: [f64; 3]| {
+        S::vec3(
+            S::Scalar::lit(a[0]),
+            S::Scalar::lit(a[1]),
+            S::Scalar::lit(a[2]),
+        )
+    };
+    let hold = PositionReference::<S>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
+    let stop = AtomicBool::new(false);
+    let count = AtomicU64::new(0);
+    let started = Instant::now();
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| {
+                let mut sys = PositionLoop::<L>::splat(
+                    &RigidBodyParams::<S>::paper(),
+                    &PositionGains::<S>::paper(),
+                    &AttitudeGains::<S>::paper(),
+                    AccelerationModel::Nominal,
+                    &hold,
+                    None,
+                )
+                .expect("the paper's inertia is invertible");
+                let ys: Vec<State<L, 6>> = (0..64 / n)
+                    .map(|g| {
+                        integrators::lanes::state_from_fn::<S, L, 6>(|i| scene::<S>(g * n + i))
+                    })
+                    .collect();
+                let t = L::Scalar::simd_lit(0.0);
+                let mut done = 0u64;
+                while !stop.load(Ordering::Relaxed) {
+                    for y in &ys {
+                        black_box(sys.load(t, black_box(y)));
+                    }
+                    done += 64;
+                }
+                count.fetch_add(done, Ordering::Relaxed);
+            });
+        }
+        std::thread::sleep(run);
+        stop.store(true, Ordering::Relaxed);
+    });
+    count.load(Ordering::Relaxed) as f64 / started.elapsed().as_secs_f64()
+}
+
+/// Prints the position updates per second on one core and on every core,
+/// one lane and lanes, each precision.
+pub fn throughput(quick: bool) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let run = Duration::from_millis(if quick { 300 } else { 1500 });
+    println!("\n| position updates per second | one core | {cores} cores |");
+    println!("|---|---|---|");
+    let row = |name: &str, f: &dyn Fn(usize) -> f64| {
+        let (one, all) = (f(1), f(cores));
+        println!("| {name} | {one:.3e} | {all:.3e} |");
+    };
+    row("nalgebra-f64", &|k| {
+        updates_per_second::<NalgebraF64, NalgebraF64>(k, run)
+    });
+    row("nalgebra-f64x4", &|k| {
+        updates_per_second::<NalgebraF64, NalgebraF64x4>(k, run)
+    });
+    row("nalgebra-f32", &|k| {
+        updates_per_second::<NalgebraF32, NalgebraF32>(k, run)
+    });
+    row("nalgebra-f32x8", &|k| {
+        updates_per_second::<NalgebraF32, NalgebraF32x8>(k, run)
+    });
+}
