@@ -379,7 +379,7 @@ def montecarlo(
     ``locate_events``.
 
     ``lanes=True`` flies four samples per instruction stream on SIMD lanes
-    (position experiment, ``dopri``; several times faster). The lanes do
+    (``dopri`` only; several times faster). The lanes do
     not locate the sat′ crossings of e_i, so ``locate_events`` is off: each
     row then equals the scalar run's with ``locate_events=False``.
 

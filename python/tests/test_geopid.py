@@ -444,9 +444,9 @@ def test_montecarlo_on_lanes_equals_the_scalar_rows_without_event_location():
     assert list(lanes["status"]) == list(scalar["status"])
     assert np.array_equal(lanes["steps"], scalar["steps"])
     assert np.array_equal(lanes["t_converge"], scalar["t_converge"], equal_nan=True)
-    with pytest.raises(ValueError, match="position experiment only") as e:
-        geopid.montecarlo("attitude", samples=1, lanes=True)
-    assert e.value.field == "experiment"
+    with pytest.raises(ValueError, match="dopri only") as e:
+        geopid.montecarlo("attitude", samples=1, lanes=True, integrator="rk4")
+    assert e.value.field == "integrator"
 
 
 @pytest.mark.parametrize("call", [

@@ -4,8 +4,8 @@
 //! timed against the scalar path.
 
 use controllers::{
-    AccelerationModel, AttitudeGains, PositionGains, PositionInput, PositionReference,
-    RigidBodyParams, VehicleState, position_law,
+    AccelerationModel, AttitudeGains, AttitudeReference, PositionGains, PositionInput,
+    PositionReference, RigidBodyParams, VehicleState, attitude_law, position_law,
 };
 use dynamics::Disturbance;
 use integrators::lanes::LaneSystem;
@@ -93,10 +93,118 @@ impl<L: SimdBackend> PositionLoop<L> {
             },
         })
     }
+}
 
-    /// The command of the last load evaluation (zeros before the first).
-    pub fn last(&self) -> Command<L> {
+/// A closed loop that keeps the command of its last load evaluation.
+pub trait Commanded<L: SimdBackend> {
+    /// The command of the last load evaluation (zeros before the first):
+    /// after an accepted Dormand–Prince substep, the command at its end
+    /// state.
+    fn last(&self) -> Command<L>;
+}
+
+impl<L: SimdBackend> Commanded<L> for PositionLoop<L> {
+    fn last(&self) -> Command<L> {
         self.last
+    }
+}
+
+/// The quadrotor pinned at its centre of gravity (the attitude stand at
+/// height 0: no translation, no gravity moment) under the attitude law
+/// holding `R_d` with `Ω_d = 0`, a constant disturbance moment `Δ_R` and
+/// a constant thrust (the hover thrust `m g`, which moves nothing here):
+/// moment `M + Δ_R`, `e_I` in extra states 0–2 (3–5 stay zero: the
+/// register the scalar simulation shares with the position mode).
+pub struct AttitudeLoop<L: SimdBackend> {
+    params: RigidBodyParams<L>,
+    gains: AttitudeGains<L>,
+    reference: AttitudeReference<L, So3Mat<L>>,
+    thrust: S<L>,
+    delta_r: V3<L>,
+    inertia_inv: M3<L>,
+    last: Command<L>,
+}
+
+impl<L: SimdBackend> AttitudeLoop<L> {
+    /// The loop of one vehicle (scalar backend `E`) copied into every
+    /// lane, holding `rd` with thrust `thrust`; `None` for a singular
+    /// inertia.
+    pub fn splat<E>(
+        params: &RigidBodyParams<E>,
+        gains: &AttitudeGains<E>,
+        rd: M3<E>,
+        thrust: E::Scalar,
+        delta_r: Option<V3<E>>,
+    ) -> Option<Self>
+    where
+        E: Backend,
+        L: SimdBackend<Scalar: SimdReal<Element = E::Scalar>>,
+    {
+        let inv = lie::ops::inverse::<E>(params.inertia)?;
+        let zero = E::vec3(E::Scalar::zero(), E::Scalar::zero(), E::Scalar::zero());
+        let splat = |v: V3<E>| lie::lanes::vec3_from_fn::<E, L>(|_| v);
+        Some(Self {
+            params: RigidBodyParams::splat(params),
+            gains: AttitudeGains::splat(gains),
+            reference: AttitudeReference {
+                rd: So3Mat::from_matrix_unchecked(lie::lanes::mat3_from_fn::<E, L>(|_| rd)),
+                omega_d: splat(zero),
+                omega_d_dot: splat(zero),
+            },
+            thrust: S::<L>::simd_splat(thrust),
+            delta_r: splat(delta_r.unwrap_or(zero)),
+            inertia_inv: lie::lanes::mat3_from_fn::<E, L>(|_| inv),
+            last: Command {
+                thrust: S::<L>::zero(),
+                moment: splat(zero),
+                psi: S::<L>::zero(),
+            },
+        })
+    }
+}
+
+impl<L: SimdBackend> Commanded<L> for AttitudeLoop<L> {
+    fn last(&self) -> Command<L> {
+        self.last
+    }
+}
+
+impl<L: SimdBackend> LaneSystem<L, 6> for AttitudeLoop<L> {
+    fn mass(&self) -> S<L> {
+        self.params.mass
+    }
+    fn inertia(&self) -> M3<L> {
+        self.params.inertia
+    }
+    fn inertia_inv(&self) -> M3<L> {
+        self.inertia_inv
+    }
+    fn translates(&self) -> bool {
+        false
+    }
+    #[inline(always)]
+    fn load(&mut self, _t: S<L>, y: &State<L, 6>) -> Load<L, 6> {
+        let [a0, a1, a2, ..] = y.extra;
+        let out = attitude_law(
+            &self.params,
+            &self.gains,
+            So3Mat::<L>::from_matrix_unchecked(y.body.r),
+            y.body.omega,
+            L::vec3(a0, a1, a2),
+            &self.reference,
+        );
+        let z = S::<L>::zero();
+        let a = L::vec3_to_array(out.e_i_rate);
+        self.last = Command {
+            thrust: self.thrust,
+            moment: out.moment,
+            psi: out.psi,
+        };
+        Load {
+            force: L::vec3(z, z, z),
+            moment: out.moment + self.delta_r,
+            extra_rate: [a[0], a[1], a[2], z, z, z],
+        }
     }
 }
 

@@ -1,34 +1,39 @@
-//! The position experiment on SIMD lanes (feature `simd`): four samples per
-//! instruction stream (`f64x4`), each lane with its own Dormand–Prince step
-//! size ([`integrators::lanes::DopriLanes`]), and a lane whose sample ends
-//! refilled at once from the queue of sample indices.
+//! The Monte Carlo experiments on SIMD lanes (feature `simd`): four
+//! samples per instruction stream (`f64x4`), each lane with its own
+//! Dormand–Prince step size ([`integrators::lanes::DopriLanes`]), and a
+//! lane whose sample ends refilled at once from the queue of sample
+//! indices.
 //!
 //! A lane runs what the scalar path runs for its sample — the same scene
-//! (vehicle, Δ_x, Δ_R, gains), the same position law (`controllers::
-//! position_law`, lane-wise), the same stepper and tolerance on the same
+//! (vehicle, Δ_x, Δ_R, gains), the same law ([`crate::lanes::PositionLoop`],
+//! [`crate::lanes::AttitudeLoop`]: `controllers::position_law` and
+//! `attitude_law` lane-wise), the same stepper and tolerance on the same
 //! 0.02 s calls, the same guard, hold and settle metric — with two
 //! differences: the sat′ crossings of `e_i` are not located (the scalar
-//! path splits a step there), and the run's end (converged or diverged) is
-//! taken at the end of the call where it holds instead of being bisected
-//! inside it. The first moves a trajectory by about the stepper's
-//! tolerance; the second only the end time, the final figures and the step
-//! count, not the class or the time to converge (interpolated as before).
+//! path splits a step there; [`Setup::locate_events`] must be off), and
+//! the run's end (converged or diverged) is taken at the end of the call
+//! where it holds instead of being bisected inside it. The first is why a
+//! lane's row equals the scalar path's with `locate_events` off; the
+//! second changes only the final Ψ, ‖e_x‖ and a diverged sample's peaks,
+//! not the class, the time to converge (interpolated as before) or the
+//! step count.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use controllers::{
-    AccelerationModel, AttitudeGains, PositionGains, PositionInput, PositionReference,
-    RigidBodyParams, VehicleState, position_law,
+    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
 };
-use dynamics::{RigidBodyState, Vehicle, Wrench};
+use dynamics::{Disturbance, RigidBodyState, Vehicle, Wrench};
 use integrators::State;
-use integrators::lanes::{DopriLanes, LaneFailure};
-use lie::{Backend, GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, So3Mat, V3};
+use integrators::lanes::{DopriLanes, LaneFailure, LaneSystem};
+use lie::{Backend, GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, V3};
 
-use super::experiments::{DIVERGED_OMEGA, DIVERGED_X, Initial, MAX_SUBSTEPS, Outcome, Setup};
+use super::experiments::{
+    DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, Setup,
+};
 use super::{Settled, Status};
-use crate::lanes::PositionLoop;
+use crate::lanes::{AttitudeLoop, Command, Commanded, PositionLoop};
 use crate::sim::SimError;
 
 /// The scalar backend of the scalar path, whose lanes these are.
@@ -59,15 +64,21 @@ impl LaneUse {
     }
 }
 
-/// The scalar model of the experiment (what each lane's sample starts
-/// from and is judged by) and its lanes.
+/// The experiment's vehicle (what judges a lane's sample: its rotor
+/// thrusts for the peaks) and the pieces of its closed loop.
 struct Model {
     vehicle: Box<dyn Vehicle<E>>,
     params: RigidBodyParams<E>,
     pos: PositionGains<E>,
     att: AttitudeGains<E>,
     model: AccelerationModel<E>,
-    reference: PositionReference<E>,
+}
+
+fn singular() -> SimError {
+    SimError::Setting {
+        field: "vehicle",
+        message: "its inertia is singular".into(),
+    }
 }
 
 impl Model {
@@ -75,56 +86,52 @@ impl Model {
         let scene = setup.scene(&setup.initial(0));
         let vehicle = crate::build_vehicle::<E>(&scene)?;
         let (params, pos, att, model) = crate::from_scene::gains::<E>(&scene, vehicle.as_ref());
-        let reference =
-            PositionReference::<E>::hold(E::vec3(0.0, 0.0, 0.0), E::vec3(1.0, 0.0, 0.0));
         Ok(Self {
             vehicle,
             params,
             pos,
             att,
             model,
-            reference,
         })
     }
 
-    fn lanes(&self) -> Result<PositionLoop<L>, SimError> {
+    fn disturbance(&self) -> Option<Disturbance<E>> {
+        self.vehicle.disturbance(0.0, &RigidBodyState::at_rest())
+    }
+
+    /// The position experiment's loop on `B` (one lane for `B = E`):
+    /// hover at the origin, `b1d = e1`.
+    fn position<B>(&self) -> Result<PositionLoop<B>, SimError>
+    where
+        B: lie::SimdBackend<Scalar: SimdReal<Element = f64>>,
+    {
+        let hold = PositionReference::<E>::hold(E::vec3(0.0, 0.0, 0.0), E::vec3(1.0, 0.0, 0.0));
         PositionLoop::splat(
             &self.params,
             &self.pos,
             &self.att,
             self.model,
-            &self.reference,
-            self.vehicle.disturbance(0.0, &RigidBodyState::at_rest()),
+            &hold,
+            self.disturbance(),
         )
-        .ok_or(SimError::Setting {
-            field: "vehicle",
-            message: "its inertia is singular".into(),
-        })
+        .ok_or_else(singular)
     }
 
-    /// Thrust and moment of the law at `body` with zero integrals (a
-    /// sample's command at t = 0).
-    fn command_at_start(&self, body: &RigidBodyState<E>) -> (f64, V3<E>) {
-        let st = VehicleState {
-            x: body.x,
-            v: body.v,
-            r: So3Mat::<E>::from_matrix_unchecked(body.r),
-            omega: body.omega,
-        };
-        let zero = E::vec3(0.0, 0.0, 0.0);
-        let out = position_law(
+    /// The attitude experiment's loop on `B`: `R_d = I`, hover thrust.
+    fn attitude<B>(&self) -> Result<AttitudeLoop<B>, SimError>
+    where
+        B: lie::SimdBackend<Scalar: SimdReal<Element = f64>>,
+    {
+        let rd = lie::ops::from_elems::<E>(crate::reference::rotation_f64([0.0; 3]));
+        let hover = self.params.mass * self.params.gravity;
+        AttitudeLoop::splat(
             &self.params,
-            &self.pos,
             &self.att,
-            &PositionInput {
-                state: &st,
-                e_i_pos: zero,
-                e_i_att: zero,
-                reference: &self.reference,
-                model: self.model,
-            },
-        );
-        (out.thrust, out.moment)
+            rd,
+            hover,
+            self.disturbance().map(|d| d.moment),
+        )
+        .ok_or_else(singular)
     }
 }
 
@@ -209,15 +216,13 @@ impl Shared<'_> {
         body.omega = E::vec3(init.omega[0], init.omega[1], init.omega[2]);
         body.x = E::vec3(init.x[0], init.x[1], init.x[2]);
         body.v = E::vec3(init.v[0], init.v[1], init.v[2]);
-        let mut f = Flight {
+        let f = Flight {
             index,
             init,
             settled: Settled::new(self.setup.hold),
             thrust: 0.0,
             rotor: 0.0,
         };
-        let (thrust, moment) = self.model.command_at_start(&body);
-        f.peaks(self.model.vehicle.as_ref(), thrust, moment);
         Some((f, State::new(body)))
     }
 
@@ -235,20 +240,40 @@ impl Shared<'_> {
         }
     }
 
+    /// The next sample started in lane `i`, with its command at t = 0 in
+    /// its peaks (the scalar path's first sample) from `one`, the same
+    /// loop on one lane.
+    fn refill<Sys, One>(
+        &self,
+        dopri: &mut DopriLanes<L, 6>,
+        one: &mut One,
+        i: usize,
+    ) -> Option<Flight>
+    where
+        One: LaneSystem<E, 6> + Commanded<E>,
+    {
+        let (mut f, y0) = self.take()?;
+        one.load(0.0, &y0);
+        let c = one.last();
+        f.peaks(self.model.vehicle.as_ref(), c.thrust, c.moment);
+        dopri.start_lane::<E>(i, &y0);
+        Some(f)
+    }
+
     /// A worker: fills its lanes from the queue and flies them until the
     /// queue and the lanes are empty.
-    fn work(&self) -> Result<(), SimError> {
-        let mut sys = self.model.lanes()?;
+    fn work<Sys, One>(&self, mut sys: Sys, mut one: One) -> Result<(), SimError>
+    where
+        Sys: LaneSystem<L, 6> + Commanded<L>,
+        One: LaneSystem<E, 6> + Commanded<E>,
+    {
         let setup = self.setup;
         let mut dopri = DopriLanes::<L, 6>::new(setup.tol, setup.dt, MAX_SUBSTEPS);
         let mut lanes: [Option<Flight>; LANES] = Default::default();
         let mut rows = Vec::new();
         let mut usage = LaneUse::default();
         for (i, lane) in lanes.iter_mut().enumerate() {
-            if let Some((f, y0)) = self.take() {
-                dopri.start_lane::<E>(i, &y0);
-                *lane = Some(f);
-            }
+            *lane = self.refill::<Sys, One>(&mut dopri, &mut one, i);
         }
         let vehicle = self.model.vehicle.as_ref();
         // A cancelled run keeps the rows of the samples finished so far.
@@ -270,7 +295,7 @@ impl Shared<'_> {
                     };
                     Some((status, None))
                 } else if arrived >> i & 1 == 1 {
-                    arrive(f, setup, vehicle, &dopri, &sys, i)
+                    arrive(f, setup, vehicle, &dopri, sys.last(), i)
                 } else {
                     None
                 };
@@ -279,10 +304,7 @@ impl Shared<'_> {
                     if let Some(row) = row {
                         self.finish(&mut rows, row);
                     }
-                    if let Some((f, y0)) = self.take() {
-                        dopri.start_lane::<E>(i, &y0);
-                        *lane = Some(f);
-                    }
+                    *lane = self.refill::<Sys, One>(&mut dopri, &mut one, i);
                 }
             }
         }
@@ -301,7 +323,7 @@ fn arrive(
     setup: &Setup,
     vehicle: &dyn Vehicle<E>,
     dopri: &DopriLanes<L, 6>,
-    sys: &PositionLoop<L>,
+    last: Command<L>,
     i: usize,
 ) -> Option<End> {
     let body = &dopri.state().body;
@@ -311,7 +333,6 @@ fn arrive(
         (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
     };
     let (omega, ex) = (norm(body.omega), norm(body.x));
-    let last = sys.last();
     let psi = last.psi.simd_extract(i);
     let figures = Some((psi, ex, dopri.accepted(i)));
     if omega > DIVERGED_OMEGA || ex > DIVERGED_X {
@@ -320,7 +341,11 @@ fn arrive(
     let thrust = last.thrust.simd_extract(i);
     let moment = lie::lanes::vec3_lane::<E, L>(last.moment, i);
     f.peaks(vehicle, thrust, moment);
-    let metric = (psi / setup.psi_tol).max(ex / setup.x_tol);
+    let metric = if setup.experiment == "position" {
+        (psi / setup.psi_tol).max(ex / setup.x_tol)
+    } else {
+        psi / setup.psi_tol
+    };
     if f.settled.check(t, metric) {
         return Some((Status::Converged, figures));
     }
@@ -333,11 +358,11 @@ fn arrive(
 impl Setup {
     /// [`Setup::run`] on SIMD lanes (four f64 samples per instruction
     /// stream, a lane refilled from the queue as soon as its sample ends)
-    /// on `threads` threads (default: one per core): the position
-    /// experiment with the `dopri` integrator only. Each lane has its own
-    /// step size; sat′ crossings are not located and a run's end is taken
-    /// at the end of the 0.02 s call where it holds (see the module).
-    /// Rows in index order, and how busy the lanes were.
+    /// on `threads` threads (default: one per core), with the `dopri`
+    /// integrator and [`Setup::locate_events`] off (errors naming the
+    /// field otherwise). Each lane has its own step size; a run's end is
+    /// taken at the end of the 0.02 s call where it holds (see the
+    /// module). Rows in index order, and how busy the lanes were.
     pub fn run_lanes(
         &self,
         indices: &[u64],
@@ -367,15 +392,6 @@ impl Setup {
         cancel: Option<&AtomicBool>,
     ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
         self.validate()?;
-        if self.experiment != "position" {
-            return Err(SimError::Setting {
-                field: "experiment",
-                message: format!(
-                    "`{}`: the lane path runs the position experiment only",
-                    self.experiment
-                ),
-            });
-        }
         if self.integrator != "dopri" {
             return Err(SimError::Setting {
                 field: "integrator",
@@ -407,7 +423,18 @@ impl Setup {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
             .max(1);
         std::thread::scope(|s| {
-            let workers: Vec<_> = (0..threads).map(|_| s.spawn(|| shared.work())).collect();
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    s.spawn(|| match self.experiment()? {
+                        Experiment::Position => {
+                            shared.work(model.position::<L>()?, model.position::<E>()?)
+                        }
+                        Experiment::Attitude => {
+                            shared.work(model.attitude::<L>()?, model.attitude::<E>()?)
+                        }
+                    })
+                })
+                .collect();
             workers
                 .into_iter()
                 .try_for_each(|w| w.join().expect("a lane worker panicked"))
