@@ -243,12 +243,7 @@ impl Shared<'_> {
     /// The next sample started in lane `i`, with its command at t = 0 in
     /// its peaks (the scalar path's first sample) from `one`, the same
     /// loop on one lane.
-    fn refill<Sys, One>(
-        &self,
-        dopri: &mut DopriLanes<L, 6>,
-        one: &mut One,
-        i: usize,
-    ) -> Option<Flight>
+    fn refill<One>(&self, dopri: &mut DopriLanes<L, 6>, one: &mut One, i: usize) -> Option<Flight>
     where
         One: LaneSystem<E, 6> + Commanded<E>,
     {
@@ -273,7 +268,7 @@ impl Shared<'_> {
         let mut rows = Vec::new();
         let mut usage = LaneUse::default();
         for (i, lane) in lanes.iter_mut().enumerate() {
-            *lane = self.refill::<Sys, One>(&mut dopri, &mut one, i);
+            *lane = self.refill(&mut dopri, &mut one, i);
         }
         let vehicle = self.model.vehicle.as_ref();
         // A cancelled run keeps the rows of the samples finished so far.
@@ -304,7 +299,7 @@ impl Shared<'_> {
                     if let Some(row) = row {
                         self.finish(&mut rows, row);
                     }
-                    *lane = self.refill::<Sys, One>(&mut dopri, &mut one, i);
+                    *lane = self.refill(&mut dopri, &mut one, i);
                 }
             }
         }
