@@ -17,7 +17,7 @@ use lie::num_traits::{Float, One, Zero};
 use lie::{Backend, M3, S, SimdBackend, SimdMask, SimdReal, ops};
 
 use crate::dopri::{error_norm, trial};
-use crate::rk::{Body, Deriv, rk4_stages};
+use crate::rk::{Body, Deriv, rk4_stages, rkmk4_stages};
 use crate::{Load, State};
 
 /// A rigid body with loads on lanes: [`crate::System`] for a lane backend,
@@ -62,6 +62,20 @@ pub fn rk4_step<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(
         Ok(n) => n,
         Err(e) => match e {},
     };
+}
+
+/// One RKMK4 step of size `h` from `(t, y)` in every lane (the stages of
+/// [`crate::Rkmk4`]: the attitude stays on SO(3) to rounding).
+pub fn rkmk4_step<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(
+    sys: &mut Sys,
+    t: S<B>,
+    h: S<B>,
+    y: &mut State<B, N>,
+) {
+    let b = body(sys);
+    let Ok(next) =
+        rkmk4_stages::<B, core::convert::Infallible, N>(&b, |t, y| Ok(sys.load(t, y)), t, h, y);
+    *y = next;
 }
 
 /// `a` in the lanes of `mask`, `b` elsewhere.
@@ -173,7 +187,10 @@ pub type LaneMask<B> = <S<B> as SimdReal>::Mask;
 const MAX_LANES: usize = 16;
 
 /// Dormand–Prince 5(4) with a step size per lane (see the module's
-/// documentation): the stages, error norm, controller
+/// documentation). Lane calls end on the grid `n·call` (computed as
+/// `n·call`, never summed), where a scalar [`crate::Dopri`] stepped
+/// from `k·call` by `(k+1)·call − k·call` (a simulation's fixed grid)
+/// ends its calls too; the stages, error norm, controller
 /// `h ← h·clamp(0.9 err^(−1/5), 0.2, 5)`, tolerance floor and substep cap
 /// of [`crate::Dopri`], lane by lane. Lanes are (re)started one at a
 /// time from a scalar state with [`DopriLanes::start_lane`], so a driver

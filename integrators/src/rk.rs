@@ -4,7 +4,7 @@
 use dynamics::RigidBodyState;
 use lie::num_traits::Zero;
 use lie::{
-    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3, hat,
+    Backend, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3, hat,
     right_jacobian_inv,
 };
 
@@ -308,6 +308,60 @@ pub(crate) fn rk4_stages<B: SimdBackend, E, const N: usize>(
     ))
 }
 
+/// One RKMK4 step from `(t, y)` (see [`Rkmk4`]), written once for one lane
+/// and for SIMD lanes ([`crate::lanes::rkmk4_step`]), as [`rk4_stages`] is.
+#[inline(always)]
+pub(crate) fn rkmk4_stages<B: SimdBackend, E, const N: usize>(
+    body: &Body<B>,
+    mut load: impl FnMut(S<B>, &State<B, N>) -> Result<Load<B, N>, E>,
+    t: S<B>,
+    h: S<B>,
+    y: &State<B, N>,
+) -> Result<State<B, N>, E> {
+    let l = S::<B>::simd_lit;
+    let half = h * l(0.5);
+    // The step on the group SO(3) × ℝ⁹ (× ℝᴺ for the extras): stage i
+    // is Y_k ⊕ δ_i with δ_i = h Σ a_ij K_j, where the slope K_j is the
+    // state's rate, the attitude's trivialised as J_r⁻¹(u_j) Ω_j
+    // (u_j = δ_j's attitude part); the vector parts and the extras
+    // follow the RK4 tableau as they are.
+    let (r0, b0) = (So3Mat::<B>::from_matrix_unchecked(y.body.r), y.body);
+    let at = |u: V3<B>, (d, extra): (RigidTangent<B>, [S<B>; N])| State {
+        body: RigidBodyState {
+            r: r0.compose(So3Mat::<B>::exp(u)).as_matrix(),
+            x: b0.x + d.x,
+            v: b0.v + d.v,
+            omega: b0.omega + d.omega,
+        },
+        extra,
+    };
+    let k1 = body.deriv(y, &load(t, y)?);
+    let a1 = y.body.omega;
+    let u2 = a1 * half;
+    let y2 = at(u2, increment(body, y, h, [(l(0.5), &k1)]));
+    let k2 = body.deriv(&y2, &load(t + half, &y2)?);
+    let a2 = right_jacobian_inv::<B>(u2) * y2.body.omega;
+    let u3 = a2 * half;
+    let y3 = at(u3, increment(body, y, h, [(l(0.5), &k2)]));
+    let k3 = body.deriv(&y3, &load(t + half, &y3)?);
+    let a3 = right_jacobian_inv::<B>(u3) * y3.body.omega;
+    let u4 = a3 * h;
+    let y4 = at(u4, increment(body, y, h, [(l(1.0), &k3)]));
+    let k4 = body.deriv(&y4, &load(t + h, &y4)?);
+    let a4 = right_jacobian_inv::<B>(u4) * y4.body.omega;
+    let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
+    let u = (a1 * sixth + a2 * third + a3 * third + a4 * sixth) * h;
+    Ok(at(
+        u,
+        increment(
+            body,
+            y,
+            h,
+            [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
+        ),
+    ))
+}
+
 /// Runge–Kutta–Munthe-Kaas of order 4 on SO(3) × Rⁿ (right form
 /// `Ṙ = RΩ^`): the attitude is `R_k exp(u)` with `u` integrated by classical
 /// RK4 from `u̇ = dexp⁻¹_{−u}(Ω) = J_r⁻¹(u) Ω`, `u(0) = 0`; the stages are
@@ -331,44 +385,8 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rkmk4 {
         y: &mut State<B, N>,
     ) -> Result<StepStats, StepError> {
         check_h::<B>(h)?;
-        let l = S::<B>::lit;
         let body = Body::of(sys);
-        let half = h * l(0.5);
-        // The step on the group SO(3) × ℝ⁹ (× ℝᴺ for the extras): stage i
-        // is Y_k ⊕ δ_i with δ_i = h Σ a_ij K_j, where the slope K_j is the
-        // state's rate, the attitude's trivialised as J_r⁻¹(u_j) Ω_j
-        // (u_j = δ_j's attitude part); the vector parts and the extras
-        // follow the RK4 tableau as they are.
-        let g0 = y.body.group();
-        let at = |u: V3<B>, (d, extra): (RigidTangent<B>, [S<B>; N])| State {
-            body: RigidBodyState::from_group(g0.rplus(RigidTangent { phi: u, ..d })),
-            extra,
-        };
-        let k1 = body.deriv(y, &eval(sys, t, y)?);
-        let a1 = y.body.omega;
-        let u2 = a1 * half;
-        let y2 = at(u2, increment(&body, y, h, [(l(0.5), &k1)]));
-        let k2 = body.deriv(&y2, &eval(sys, t + half, &y2)?);
-        let a2 = right_jacobian_inv::<B>(u2) * y2.body.omega;
-        let u3 = a2 * half;
-        let y3 = at(u3, increment(&body, y, h, [(l(0.5), &k2)]));
-        let k3 = body.deriv(&y3, &eval(sys, t + half, &y3)?);
-        let a3 = right_jacobian_inv::<B>(u3) * y3.body.omega;
-        let u4 = a3 * h;
-        let y4 = at(u4, increment(&body, y, h, [(l(1.0), &k3)]));
-        let k4 = body.deriv(&y4, &eval(sys, t + h, &y4)?);
-        let a4 = right_jacobian_inv::<B>(u4) * y4.body.omega;
-        let (sixth, third) = (l(1.0 / 6.0), l(1.0 / 3.0));
-        let u = (a1 * sixth + a2 * third + a3 * third + a4 * sixth) * h;
-        let next = at(
-            u,
-            increment(
-                &body,
-                y,
-                h,
-                [(sixth, &k1), (third, &k2), (third, &k3), (sixth, &k4)],
-            ),
-        );
+        let next = rkmk4_stages(&body, |t, y| eval(sys, t, y), t, h, y)?;
         finish(t, y, next)?;
         Ok(StepStats {
             evaluations: 4,
