@@ -7,7 +7,7 @@
 
 use controllers::ModeOutput;
 use dynamics::RigidBodyState;
-use lie::{Backend, GlamF64, Real};
+use lie::{Backend, GlamF64, Real, S};
 
 use super::{Status, Stream, Study, in_ball, shoemake};
 use crate::scene::{AttitudeRef, DisturbanceSpec, ModeKind, PositionRef, SegmentSpec, ThrustSpec};
@@ -125,6 +125,19 @@ impl Initial {
     pub fn rotation_vector(&self) -> [f64; 3] {
         let (a, th) = (self.axis(), self.angle());
         [a[0] * th, a[1] * th, a[2] * th]
+    }
+
+    /// The body state on backend `B`: the attitude through its rotation
+    /// vector, as a scene file would give it (what a sample starts from).
+    pub fn body<B: Backend>(&self) -> RigidBodyState<B> {
+        let v = |a: [f64; 3]| B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]));
+        let r = crate::reference::rotation_f64(self.rotation_vector());
+        RigidBodyState {
+            r: lie::ops::from_elems::<B>(r.map(|row| row.map(S::<B>::lit))),
+            x: v(self.x),
+            v: v(self.v),
+            omega: v(self.omega),
+        }
     }
 }
 
@@ -294,11 +307,7 @@ impl Setup {
         let kind: integrators::IntegratorKind = self.integrator.parse()?;
         let stepper =
             integrators::Stepper::<B, 6>::new(kind, integrators::StepperConfig { tol: self.tol });
-        let mut body = RigidBodyState::<B>::at_rest();
-        body.r = lie::ops::from_elems::<B>(crate::reference::rotation_f64(sc.initial.rotation));
-        body.omega = B::vec3(init.omega[0], init.omega[1], init.omega[2]);
-        body.x = B::vec3(init.x[0], init.x[1], init.x[2]);
-        body.v = B::vec3(init.v[0], init.v[1], init.v[2]);
+        let body = init.body::<B>();
         let guard = DivergenceGuard {
             omega: Some(DIVERGED_OMEGA),
             position_error: Some(DIVERGED_X),

@@ -211,11 +211,7 @@ impl Shared<'_> {
         let k = self.next.fetch_add(1, Ordering::Relaxed);
         let index = *self.indices.get(k)?;
         let init = self.setup.initial(index);
-        let mut body = RigidBodyState::<E>::at_rest();
-        body.r = lie::ops::from_elems::<E>(crate::reference::rotation_f64(init.rotation_vector()));
-        body.omega = E::vec3(init.omega[0], init.omega[1], init.omega[2]);
-        body.x = E::vec3(init.x[0], init.x[1], init.x[2]);
-        body.v = E::vec3(init.v[0], init.v[1], init.v[2]);
+        let body = init.body::<E>();
         let f = Flight {
             index,
             init,

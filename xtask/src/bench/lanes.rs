@@ -11,12 +11,10 @@ use std::time::{Duration, Instant};
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
 };
-use dynamics::RigidBodyState;
 use integrators::State;
 use integrators::lanes::LaneSystem;
 use lie::{
     Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal,
-    So3Mat,
 };
 use scenarios::lanes::PositionLoop;
 
@@ -57,19 +55,14 @@ pub fn lanes_table(raw: &[(String, f64)]) -> Vec<(String, String, f64)> {
     rows
 }
 
-/// A scene mid-flight, different for each `i`.
+/// Scene `i`: the position Monte Carlo's sample `i` (random attitude,
+/// rates, position and velocity; integrals zero).
 fn scene<S: Backend>(i: usize) -> State<S, 6> {
-    let t = i as f64 * 0.37;
-    let v =
-        |a: f64, b: f64, c: f64| S::vec3(S::Scalar::lit(a), S::Scalar::lit(b), S::Scalar::lit(c));
-    let mut y = State::new(RigidBodyState {
-        r: So3Mat::<S>::exp(v(0.6 * t.sin(), 0.4 * t.cos(), -0.8 * (2.0 * t).sin())).as_matrix(),
-        x: v(0.3 * t.cos(), -0.2, 0.5 * t.sin()),
-        v: v(0.5, 0.1 * t.sin(), -0.3),
-        omega: v(0.4 * t.cos(), -0.7, 0.2 * t.sin()),
-    });
-    y.extra = [0.01, -0.02, 0.005, 0.02, -0.01, 0.03].map(|c| S::Scalar::lit(c * t.cos()));
-    y
+    State::new(
+        scenarios::montecarlo::Setup::default()
+            .initial(i as u64)
+            .body::<S>(),
+    )
 }
 
 /// Position-law evaluations (with the loads: `PositionLoop::load`) per
