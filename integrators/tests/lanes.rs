@@ -106,8 +106,11 @@ fn bits(y: &State<E, 1>) -> Vec<u64> {
     out
 }
 
+/// A lane stepper: `(system, t, h, y)`.
+type LaneStep = fn(&mut Spring<L>, S<L>, S<L>, &mut State<L, 1>);
+
 fn fixed_step(
-    lane: fn(&mut Spring<L>, S<L>, S<L>, &mut State<L, 1>),
+    lane: LaneStep,
     scalar: &mut dyn FnMut(&mut State<E, 1>),
     bound: f64,
 ) {

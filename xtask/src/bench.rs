@@ -52,7 +52,15 @@ pub struct BenchArgs {
     /// Skip the criterion runs and tabulate the last results.
     #[arg(long)]
     pub no_run: bool,
+    /// Only the position updates per second, one core and every core,
+    /// one lane and lanes (to compare builds: run it from a binary built
+    /// with `RUSTFLAGS="-C target-cpu=native"`, say).
+    #[arg(long)]
+    pub throughput: bool,
 }
+
+/// The features of the lane benches' run.
+const LANE_FEATURES: &str = "controllers/simd,scenarios/simd";
 
 /// One row of `summary.csv`.
 struct Row {
@@ -206,20 +214,32 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     let out_dir = root.join("target").join("bench");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let started = std::time::Instant::now();
+    if a.throughput {
+        lanes::throughput(a.quick);
+        return Ok(());
+    }
     if !a.no_run {
         let b = bar(4, "criterion");
         eprintln!(
             "running criterion benches (controllers update, scenarios step, lie vs the backends' own types, the lanes)…"
         );
-        criterion("controllers", None, "update", "", a.quick)?;
+        // Every run with the lane features (the scalar code is the same
+        // with them on), so that the builds share what they can.
+        criterion(
+            "controllers",
+            Some("controllers/simd"),
+            "update",
+            "",
+            a.quick,
+        )?;
         b.inc(1);
-        criterion("scenarios", None, "step", "", a.quick)?;
+        criterion("scenarios", Some("scenarios/simd"), "step", "", a.quick)?;
         b.inc(1);
-        criterion("lie", None, "lie", "vs-native", a.quick)?;
+        criterion("lie", Some("lie/simd"), "lie", "vs-native", a.quick)?;
         b.inc(1);
         criterion(
             "controllers scenarios",
-            Some("controllers/simd,scenarios/simd"),
+            Some(LANE_FEATURES),
             "lanes",
             "",
             a.quick,
