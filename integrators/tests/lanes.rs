@@ -109,11 +109,7 @@ fn bits(y: &State<E, 1>) -> Vec<u64> {
 /// A lane stepper: `(system, t, h, y)`.
 type LaneStep = fn(&mut Spring<L>, S<L>, S<L>, &mut State<L, 1>);
 
-fn fixed_step(
-    lane: LaneStep,
-    scalar: &mut dyn FnMut(&mut State<E, 1>),
-    bound: f64,
-) {
+fn fixed_step(lane: LaneStep, scalar: &mut dyn FnMut(&mut State<E, 1>), bound: f64) {
     let mut y = state_from_fn::<E, L, 1>(start);
     let mut sys = Spring::<L>::new();
     let h = <S<L> as SimdReal>::simd_lit(0.01);
