@@ -56,12 +56,9 @@ pub fn rk4_step<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(
     y: &mut State<B, N>,
 ) {
     let b = body(sys);
-    let next =
+    let Ok(next) =
         rk4_stages::<B, core::convert::Infallible, N>(&b, |t, y| Ok(sys.load(t, y)), t, h, y);
-    *y = match next {
-        Ok(n) => n,
-        Err(e) => match e {},
-    };
+    *y = next;
 }
 
 /// One RKMK4 step of size `h` from `(t, y)` in every lane (the stages of

@@ -50,6 +50,10 @@ pub struct LaneUse {
     pub busy: u64,
     /// Lane-substeps of an empty lane.
     pub idle: u64,
+    /// Of those, the ones taken while the queue still held samples: zero
+    /// unless refilling is broken (a lane is refilled in the substep its
+    /// sample ends).
+    pub idle_while_queued: u64,
 }
 
 impl LaneUse {
@@ -273,6 +277,9 @@ impl Shared<'_> {
             let busy = lanes.iter().filter(|l| l.is_some()).count() as u64;
             usage.busy += busy;
             usage.idle += LANES as u64 - busy;
+            if self.next.load(Ordering::Relaxed) < self.indices.len() {
+                usage.idle_while_queued += LANES as u64 - busy;
+            }
             let (arrived, failed) = (step.arrived.bitmask(), step.failed.bitmask());
             if arrived | failed == 0 {
                 continue;
@@ -303,6 +310,7 @@ impl Shared<'_> {
         let mut u = self.usage.lock().expect("usage");
         u.busy += usage.busy;
         u.idle += usage.idle;
+        u.idle_while_queued += usage.idle_while_queued;
         Ok(())
     }
 }
