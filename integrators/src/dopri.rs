@@ -4,8 +4,9 @@
 use lie::num_traits::{Float, Zero};
 use lie::{Backend, Real, S, SimdBackend, SimdReal, ops};
 
+use crate::Load;
 use crate::rk::{Body, Deriv, check_h, combine, eval, finish};
-use crate::{Integrator, Load, State, StepError, StepStats, System};
+use crate::{Integrator, State, StepError, StepStats, System};
 
 // Dormand & Prince (1980), the 5th-order weights (= last stage row) and the
 // difference 5th − 4th for the error estimate.
@@ -108,6 +109,52 @@ impl<B: Backend> Dopri<B> {
     pub fn tolerance(&self) -> S<B> {
         self.rtol
     }
+
+    fn error_norm<const N: usize>(
+        &self,
+        body: &Body<B>,
+        y: &State<B, N>,
+        next: &State<B, N>,
+        err: &State<B, N>,
+    ) -> S<B> {
+        let mut sum = S::<B>::zero();
+        let mut count = 0usize;
+        let mut add = |e: S<B>, a: S<B>, b: S<B>| {
+            let sc = self.atol + self.rtol * a.abs().max(b.abs());
+            let r = e / sc;
+            sum += r * r;
+            count += 1;
+        };
+        let (ey, en, ee) = (
+            ops::elems::<B>(y.body.r),
+            ops::elems::<B>(next.body.r),
+            ops::elems::<B>(err.body.r),
+        );
+        for i in 0..3 {
+            for k in 0..3 {
+                add(ee[i][k], ey[i][k], en[i][k]);
+            }
+        }
+        let mut vecs = |a: lie::V3<B>, b: lie::V3<B>, e: lie::V3<B>| {
+            let (a, b, e) = (
+                B::vec3_to_array(a),
+                B::vec3_to_array(b),
+                B::vec3_to_array(e),
+            );
+            for i in 0..3 {
+                add(e[i], a[i], b[i]);
+            }
+        };
+        vecs(y.body.omega, next.body.omega, err.body.omega);
+        if body.translates {
+            vecs(y.body.x, next.body.x, err.body.x);
+            vecs(y.body.v, next.body.v, err.body.v);
+        }
+        for i in 0..N {
+            add(err.extra[i], y.extra[i], next.extra[i]);
+        }
+        (sum / S::<B>::lit(count as f64)).sqrt()
+    }
 }
 
 impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
@@ -149,16 +196,8 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
             if last {
                 hs = remaining;
             }
-            let (next, k7, err) = trial(
-                &body,
-                |t, ys| {
-                    stats.evaluations += 1;
-                    eval(sys, t, ys)
-                },
-                (&cur, &k1, &zero_state),
-                (tc, hs),
-            )?;
-            let en = error_norm(self.atol, self.rtol, &body, (&cur, &next, &err));
+            let (next, k7, err) = trial(sys, &body, &cur, &k1, &zero_state, (tc, hs), &mut stats)?;
+            let en = self.error_norm(&body, &cur, &next, &err);
             if !Float::is_finite(en) {
                 return Err(StepError::NonFinite {
                     field: "dopri error estimate",
@@ -218,11 +257,12 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
     }
 }
 
-/// The RMS over all components of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`
+/// [`Dopri`]'s error norm for any `SimdBackend` (the lane stepper's):
+/// the RMS over all components of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`
 /// (`x`, `v` only when the body translates), lane by lane on a lane
 /// backend: each lane's step is judged on its own components alone.
 #[inline(always)]
-pub(crate) fn error_norm<B: SimdBackend, const N: usize>(
+pub(crate) fn error_norm_lanes<B: SimdBackend, const N: usize>(
     atol: S<B>,
     rtol: S<B>,
     body: &Body<B>,
@@ -274,7 +314,115 @@ type Trial<B, const N: usize> = (State<B, N>, Deriv<B, N>, State<B, N>);
 /// first stage is `k1`: the fifth-order solution, its last stage (the next
 /// substep's first: first same as last) and the embedded error estimate
 /// (`zero_state` carries the shape of a state with every entry zero).
-pub(crate) fn trial<B: SimdBackend, E, const N: usize>(
+fn trial<B: Backend, const N: usize, Sys: System<B, N> + ?Sized>(
+    sys: &mut Sys,
+    body: &Body<B>,
+    cur: &State<B, N>,
+    k1: &Deriv<B, N>,
+    zero_state: &State<B, N>,
+    (tc, hs): (S<B>, S<B>),
+    stats: &mut StepStats,
+) -> Result<Trial<B, N>, StepError> {
+    let l = S::<B>::lit;
+    let stage = |sys: &mut Sys,
+                 c: f64,
+                 ys: State<B, N>,
+                 stats: &mut StepStats|
+     -> Result<Deriv<B, N>, StepError> {
+        stats.evaluations += 1;
+        Ok(body.deriv(&ys, &eval(sys, tc + hs * l(c), &ys)?))
+    };
+    let k2 = stage(sys, C[1], combine(body, cur, hs, [(l(A2[0]), k1)]), stats)?;
+    let k3 = stage(
+        sys,
+        C[2],
+        combine(body, cur, hs, [(l(A3[0]), k1), (l(A3[1]), &k2)]),
+        stats,
+    )?;
+    let k4 = stage(
+        sys,
+        C[3],
+        combine(
+            body,
+            cur,
+            hs,
+            [(l(A4[0]), k1), (l(A4[1]), &k2), (l(A4[2]), &k3)],
+        ),
+        stats,
+    )?;
+    let k5 = stage(
+        sys,
+        C[4],
+        combine(
+            body,
+            cur,
+            hs,
+            [
+                (l(A5[0]), k1),
+                (l(A5[1]), &k2),
+                (l(A5[2]), &k3),
+                (l(A5[3]), &k4),
+            ],
+        ),
+        stats,
+    )?;
+    let k6 = stage(
+        sys,
+        C[5],
+        combine(
+            body,
+            cur,
+            hs,
+            [
+                (l(A6[0]), k1),
+                (l(A6[1]), &k2),
+                (l(A6[2]), &k3),
+                (l(A6[3]), &k4),
+                (l(A6[4]), &k5),
+            ],
+        ),
+        stats,
+    )?;
+    let next = combine(
+        body,
+        cur,
+        hs,
+        [
+            (l(B5[0]), k1),
+            (l(B5[2]), &k3),
+            (l(B5[3]), &k4),
+            (l(B5[4]), &k5),
+            (l(B5[5]), &k6),
+        ],
+    );
+    let k7 = stage(sys, C[6], next, stats)?;
+    let err = combine(
+        body,
+        zero_state,
+        hs,
+        [
+            (l(E[0]), k1),
+            (l(E[2]), &k3),
+            (l(E[3]), &k4),
+            (l(E[4]), &k5),
+            (l(E[5]), &k6),
+            (l(E[6]), &k7),
+        ],
+    );
+    Ok((next, k7, err))
+}
+
+/// [`Dopri`]'s trial substep for any `SimdBackend` (the lane stepper's),
+/// operation for operation (the lane tests check it to the bit). The
+/// scalar stepper keeps its own copy: routing it through this function
+/// (a closure for the load) cost 2–3 % per step in f64 in the `scenarios`
+/// step bench, and the scalar path must not pay for lanes.
+///
+/// One Dormand–Prince trial substep of size `hs` from `(tc, cur)` whose
+/// first stage is `k1`: the fifth-order solution, its last stage (the next
+/// substep's first: first same as last) and the embedded error estimate
+/// (`zero_state` carries the shape of a state with every entry zero).
+pub(crate) fn trial_lanes<B: SimdBackend, E, const N: usize>(
     body: &Body<B>,
     mut load: impl FnMut(S<B>, &State<B, N>) -> Result<Load<B, N>, E>,
     (cur, k1, zero_state): (&State<B, N>, &Deriv<B, N>, &State<B, N>),

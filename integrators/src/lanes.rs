@@ -1,10 +1,13 @@
 //! The steppers on SIMD lanes (`lie`'s lane backends, feature `simd`): one
 //! call advances four or eight independent bodies, each lane with its own
-//! time, step size and fate. The stages are the scalar steppers' own code
-//! ([`crate::Rk4`], [`crate::Dopri`]), compiled for a lane scalar; what
-//! differs is failure: a lane whose state turns non-finite, or whose step
-//! cannot be controlled, is *flagged* and its neighbours go on, where the
-//! scalar steppers return an error.
+//! time, step size and fate. The stages are those of the scalar steppers
+//! ([`crate::Rk4`], [`crate::Rkmk4`], [`crate::Dopri`]) operation for
+//! operation, in generic copies (the scalar steppers keep their own code,
+//! which is faster for one lane); the lane tests check every lane against
+//! the scalar stepper to the bit. What differs is failure: a lane whose
+//! state turns non-finite, or whose step cannot be controlled, is
+//! *flagged* and its neighbours go on, where the scalar steppers return an
+//! error.
 //!
 //! [`DopriLanes`] is Dormand–Prince 5(4) with a step size *per lane*: each
 //! lane accepts or rejects its own trial substep, so a lane in a fast
@@ -16,7 +19,7 @@
 use lie::num_traits::{Float, One, Zero};
 use lie::{Backend, M3, S, SimdBackend, SimdMask, SimdReal, ops};
 
-use crate::dopri::{error_norm, trial};
+use crate::dopri::{error_norm_lanes, trial_lanes};
 use crate::rk::{Body, Deriv, rk4_stages, rkmk4_stages};
 use crate::{Load, State};
 
@@ -341,13 +344,13 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
                 extra: [z; N],
             }
         };
-        let Ok((next, k7, err)) = trial::<B, core::convert::Infallible, N>(
+        let Ok((next, k7, err)) = trial_lanes::<B, core::convert::Infallible, N>(
             &b,
             |t, y| Ok(sys.load(t, y)),
             (&self.y, &self.k1, &zero),
             (self.t, hs),
         );
-        let en = error_norm(self.tol, self.tol, &b, (&self.y, &next, &err));
+        let en = error_norm_lanes(self.tol, self.tol, &b, (&self.y, &next, &err));
         // The controller's power, lane by lane on the element type: the
         // same `powf` as the scalar stepper's.
         let fac = S::<B>::simd_from_fn(|i| {
