@@ -18,14 +18,6 @@ pub type Mask<B> = <S<B> as SimdReal>::Mask;
 /// The number type in each lane of a backend's scalar.
 type Element<B> = <S<B> as SimdReal>::Element;
 
-/// `a` in the lanes where `mask` is set, `b` elsewhere.
-#[inline(always)]
-fn select_v<B: lie::SimdBackend>(mask: Mask<B>, a: V3<B>, b: V3<B>) -> V3<B> {
-    let (a, b) = (B::vec3_to_array(a), B::vec3_to_array(b));
-    let c = |i: usize| S::<B>::simd_select(mask, a[i], b[i]);
-    B::vec3(c(0), c(1), c(2))
-}
-
 /// Position gains, per inertial axis (diagonal); the paper's are scalars.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct PositionGains<B: lie::SimdBackend> {
@@ -423,11 +415,12 @@ fn degenerate_heading<B: lie::SimdBackend>(
     let nc = norm::<B>(c);
     let undefined = nc.simd_le(c_floor);
     let (c, nc) = if undefined.any() {
-        let alt = select_v::<B>(norm::<B>(B::cross(b3, rb1)).simd_gt(c_floor), rb1, rb2);
+        let alt =
+            lie::ops::select_vec::<B>(norm::<B>(B::cross(b3, rb1)).simd_gt(c_floor), rb1, rb2);
         *b1d = (
-            select_v::<B>(undefined, alt, b1d.0),
-            select_v::<B>(undefined, z, b1d.1),
-            select_v::<B>(undefined, z, b1d.2),
+            lie::ops::select_vec::<B>(undefined, alt, b1d.0),
+            lie::ops::select_vec::<B>(undefined, z, b1d.1),
+            lie::ops::select_vec::<B>(undefined, z, b1d.2),
         );
         let c = B::cross(b3, b1d.0);
         (c, norm::<B>(c))
@@ -458,7 +451,7 @@ fn thrust_axis<B: lie::SimdBackend>(
         fallback()
     } else {
         let (r, f) = (unit_with_derivatives::<B>(u, ud, udd, n), fallback());
-        let (v, sc) = (select_v::<B>, S::<B>::simd_select);
+        let (v, sc) = (lie::ops::select_vec::<B>, S::<B>::simd_select);
         (
             v(ok, r.0, f.0),
             v(ok, r.1, f.1),
@@ -507,7 +500,7 @@ fn heading_axis<B: lie::SimdBackend>(
         let (b2, invc) = heading();
         let mut b1d_f = b1d;
         let (b2_f, invc_f, undefined) = degenerate_heading::<B>(b3, &mut b1d_f, body, c_floor);
-        let v = |a, b| select_v::<B>(regular, a, b);
+        let v = |a, b| lie::ops::select_vec::<B>(regular, a, b);
         (
             v(b2, b2_f),
             S::<B>::simd_select(regular, invc, invc_f),

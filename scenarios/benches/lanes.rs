@@ -6,16 +6,10 @@
 //! each time. Criterion's throughput is the batch, so its time per element
 //! is per scene and step.
 
-use controllers::{
-    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
-};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use dynamics::Disturbance;
 use integrators::State;
 use integrators::lanes::rk4_step;
-use lie::{
-    Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal,
-};
+use lie::{Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, SimdBackend, SimdReal};
 use scenarios::lanes::PositionLoop;
 use std::hint::black_box;
 
@@ -38,27 +32,7 @@ where
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
     let n = <L::Scalar as SimdReal>::LANES;
-    let d = |a: [f64; 3]| {
-        S::vec3(
-            S::Scalar::lit(a[0]),
-            S::Scalar::lit(a[1]),
-            S::Scalar::lit(a[2]),
-        )
-    };
-    let hold = PositionReference::<S>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
-    let disturbance = Disturbance {
-        force: d(controllers::paper::DELTA_X),
-        moment: d(controllers::paper::DELTA_R),
-    };
-    let mut sys = PositionLoop::<L>::splat(
-        &RigidBodyParams::<S>::paper(),
-        &PositionGains::<S>::paper(),
-        &AttitudeGains::<S>::paper(),
-        AccelerationModel::Nominal,
-        &hold,
-        Some(disturbance),
-    )
-    .expect("the paper's inertia is invertible");
+    let mut sys = PositionLoop::<L>::paper::<S>();
     let start: Vec<State<L, 6>> = (0..BATCH / n)
         .map(|g| integrators::lanes::state_from_fn::<S, L, 6>(|i| scene::<S>(g * n + i)))
         .collect();

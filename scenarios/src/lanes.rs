@@ -11,7 +11,7 @@ use dynamics::Disturbance;
 use integrators::lanes::LaneSystem;
 use integrators::{Load, State};
 use lie::num_traits::Zero;
-use lie::{Backend, M3, S, SimdBackend, SimdReal, So3Mat, V3};
+use lie::{Backend, M3, Real, S, SimdBackend, SimdReal, So3Mat, V3};
 
 /// The free quadrotor under the position law with constant disturbances
 /// `Δ_x`, `Δ_R`, no rotor limits: force `m g e3 − f R e3 + Δ_x`, moment
@@ -92,6 +92,37 @@ impl<L: SimdBackend> PositionLoop<L> {
                 psi: S::<L>::zero(),
             },
         })
+    }
+
+    /// The paper's vehicle and gains holding hover at the origin with
+    /// `b1d = e1`, under the paper's Δ_x, Δ_R (the position experiment's
+    /// loop), in every lane; `E` is the lanes' element backend.
+    pub fn paper<E>() -> Self
+    where
+        E: Backend,
+        L: SimdBackend<Scalar: SimdReal<Element = E::Scalar>>,
+    {
+        let d = |a: [f64; 3]| {
+            E::vec3(
+                E::Scalar::lit(a[0]),
+                E::Scalar::lit(a[1]),
+                E::Scalar::lit(a[2]),
+            )
+        };
+        let hold = PositionReference::<E>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
+        let disturbance = Disturbance {
+            force: d(controllers::paper::DELTA_X),
+            moment: d(controllers::paper::DELTA_R),
+        };
+        Self::splat(
+            &RigidBodyParams::<E>::paper(),
+            &PositionGains::<E>::paper(),
+            &AttitudeGains::<E>::paper(),
+            AccelerationModel::Nominal,
+            &hold,
+            Some(disturbance),
+        )
+        .expect("the paper's inertia is invertible")
     }
 }
 

@@ -8,14 +8,9 @@ use std::hint::black_box;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use controllers::{
-    AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
-};
 use integrators::State;
 use integrators::lanes::LaneSystem;
-use lie::{
-    Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal,
-};
+use lie::{Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, SimdBackend, SimdReal};
 use scenarios::lanes::PositionLoop;
 
 /// The groups of the lane benches and their names here.
@@ -65,7 +60,8 @@ fn scene<S: Backend>(i: usize) -> State<S, 6> {
     )
 }
 
-/// Position-law evaluations (with the loads: `PositionLoop::load`) per
+/// Position-law evaluations (with the loads: `PositionLoop::paper`'s
+/// `load`) per
 /// second on `threads` threads at once for `run`, 64 scenes per thread.
 fn updates_per_second<S, L>(threads: usize, run: Duration) -> f64
 where
@@ -73,29 +69,13 @@ where
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
     let n = <L::Scalar as SimdReal>::LANES;
-    let d = |a: [f64; 3]| {
-        S::vec3(
-            S::Scalar::lit(a[0]),
-            S::Scalar::lit(a[1]),
-            S::Scalar::lit(a[2]),
-        )
-    };
-    let hold = PositionReference::<S>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
     let stop = AtomicBool::new(false);
     let count = AtomicU64::new(0);
     let started = Instant::now();
     std::thread::scope(|s| {
         for _ in 0..threads {
             s.spawn(|| {
-                let mut sys = PositionLoop::<L>::splat(
-                    &RigidBodyParams::<S>::paper(),
-                    &PositionGains::<S>::paper(),
-                    &AttitudeGains::<S>::paper(),
-                    AccelerationModel::Nominal,
-                    &hold,
-                    None,
-                )
-                .expect("the paper's inertia is invertible");
+                let mut sys = PositionLoop::<L>::paper::<S>();
                 let ys: Vec<State<L, 6>> = (0..64 / n)
                     .map(|g| {
                         integrators::lanes::state_from_fn::<S, L, 6>(|i| scene::<S>(g * n + i))
