@@ -12,15 +12,14 @@
 
 use num_traits::Zero;
 
-use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, LieGroup, M3, Rotation, S, SimdBackend, V3, so3};
+use crate::{LieGroup, M3, S, SimdBackend, SimdReal, So3Group, V3, so3};
 
 /// An element of SO(3) × ℝ³ × ℝ³ × ℝ³: the group operation is the
 /// rotation's composition and the vectors' sum (not a rigid motion's
 /// composition: see [`Se3`](crate::Se3) for that).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct RigidState<B: Backend, R> {
+pub struct RigidState<B: SimdBackend, R> {
     /// Attitude (body to inertial).
     pub r: R,
     /// Position, inertial frame.
@@ -64,9 +63,9 @@ impl<B: SimdBackend> RigidTangent<B> {
 /// A 12×12 block-diagonal matrix `diag(A₀, A₁, A₂, A₃)` of 3×3 blocks, in
 /// the tangent order `(φ, x, v, Ω)`: every Jacobian of a product group.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct BlockDiag4<B: Backend>(pub [M3<B>; 4]);
+pub struct BlockDiag4<B: SimdBackend>(pub [M3<B>; 4]);
 
-impl<B: Backend> BlockDiag4<B> {
+impl<B: SimdBackend> BlockDiag4<B> {
     /// `diag(a, I, I, I)`: the shape of every Jacobian of [`RigidState`].
     #[inline]
     pub fn attitude(a: M3<B>) -> Self {
@@ -86,7 +85,7 @@ impl<B: Backend> BlockDiag4<B> {
 /// as four 3×3 blocks side by side in the tangent order `(φ, x, v, Ω)`.
 pub type ActBlocks<B> = [M3<B>; 4];
 
-impl<B: Backend, R: Rotation<B>> RigidState<B, R> {
+impl<B: SimdBackend, R: So3Group<B>> RigidState<B, R> {
     /// Builds a state from its parts.
     #[inline]
     pub fn new(r: R, x: V3<B>, v: V3<B>, omega: V3<B>) -> Self {
@@ -94,7 +93,7 @@ impl<B: Backend, R: Rotation<B>> RigidState<B, R> {
     }
 }
 
-impl<B: Backend, R: Rotation<B>> LieGroup<B> for RigidState<B, R> {
+impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for RigidState<B, R> {
     const DOF: usize = 12;
     type Tangent = RigidTangent<B>;
     type Jacobian = BlockDiag4<B>;
@@ -133,7 +132,8 @@ impl<B: Backend, R: Rotation<B>> LieGroup<B> for RigidState<B, R> {
     }
     #[inline]
     fn adjoint(self) -> BlockDiag4<B> {
-        BlockDiag4::attitude(self.r.matrix())
+        // SO(3)'s adjoint is its rotation matrix.
+        BlockDiag4::attitude(self.r.adjoint())
     }
     #[inline]
     fn right_jacobian(tau: RigidTangent<B>) -> BlockDiag4<B> {
@@ -153,9 +153,9 @@ impl<B: Backend, R: Rotation<B>> LieGroup<B> for RigidState<B, R> {
     }
     /// `∂(R p + x)/∂(φ, x, v, Ω) = [−R p^, I, 0, 0]`, `∂/∂p = R`.
     fn act_jac(self, p: V3<B>) -> (V3<B>, ActBlocks<B>, M3<B>) {
-        let r = self.r.matrix();
+        let r = self.r.adjoint();
         let zero = ops::diag::<B>(S::<B>::zero(), S::<B>::zero(), S::<B>::zero());
-        let d_phi = r * so3::hat::<B>(p) * S::<B>::lit(-1.0);
+        let d_phi = r * so3::hat::<B>(p) * S::<B>::simd_lit(-1.0);
         (self.act(p), [d_phi, ops::identity::<B>(), zero, zero], r)
     }
     #[inline]
@@ -190,6 +190,6 @@ impl<B: Backend, R: Rotation<B>> LieGroup<B> for RigidState<B, R> {
     }
     #[inline]
     fn jacobian_neg(a: BlockDiag4<B>) -> BlockDiag4<B> {
-        BlockDiag4(a.0.map(|m| m * S::<B>::lit(-1.0)))
+        BlockDiag4(a.0.map(|m| m * S::<B>::simd_lit(-1.0)))
     }
 }

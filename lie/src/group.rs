@@ -52,7 +52,7 @@ use num_traits::Zero;
 
 use crate::backend::ops;
 use crate::se3::{Matrix6, Se3, Twist, se3_left_jacobian, se3_left_jacobian_inv};
-use crate::{Backend, M3, Real, Rotation, S, So3Mat, So3Quat, V3, so3};
+use crate::{M3, S, SimdBackend, SimdReal, So3Group, So3Mat, So3Quat, V3, so3};
 
 /// A `3 × 6` matrix, row-major: the Jacobian of an SE(3) action with
 /// respect to the transform.
@@ -60,7 +60,7 @@ pub type Matrix3x6<T> = [[T; 6]; 3];
 
 /// A matrix Lie group: its operations and their Jacobians (see the
 /// module docs for the conventions).
-pub trait LieGroup<B: Backend>: Copy {
+pub trait LieGroup<B: SimdBackend>: Copy {
     /// Degrees of freedom: the tangent space's dimension.
     const DOF: usize;
     /// A tangent vector (`V3` for SO(3), [`Twist`] for SE(3)).
@@ -190,8 +190,8 @@ pub trait LieGroup<B: Backend>: Copy {
 
 /// SO(3) in either representation: the group part of [`Rotation`].
 macro_rules! so3_group {
-    ($t:ident) => {
-        impl<B: Backend> LieGroup<B> for $t<B> {
+    ($t:ident, $matrix:ident) => {
+        impl<B: SimdBackend> LieGroup<B> for $t<B> {
             const DOF: usize = 3;
             type Tangent = V3<B>;
             type Jacobian = M3<B>;
@@ -223,7 +223,7 @@ macro_rules! so3_group {
             }
             #[inline]
             fn adjoint(self) -> M3<B> {
-                <Self as Rotation<B>>::matrix(self)
+                $t::<B>::$matrix(self)
             }
             #[inline]
             fn right_jacobian(tau: V3<B>) -> M3<B> {
@@ -242,8 +242,8 @@ macro_rules! so3_group {
                 so3::left_jacobian_inv::<B>(tau)
             }
             fn act_jac(self, p: V3<B>) -> (V3<B>, M3<B>, M3<B>) {
-                let r = <Self as Rotation<B>>::matrix(self);
-                (r * p, r * so3::hat::<B>(p) * S::<B>::lit(-1.0), r)
+                let r = $t::<B>::$matrix(self);
+                (r * p, r * so3::hat::<B>(p) * S::<B>::simd_lit(-1.0), r)
             }
             #[inline]
             fn tangent_neg(tau: V3<B>) -> V3<B> {
@@ -275,17 +275,17 @@ macro_rules! so3_group {
             }
             #[inline]
             fn jacobian_neg(a: M3<B>) -> M3<B> {
-                a * S::<B>::lit(-1.0)
+                a * S::<B>::simd_lit(-1.0)
             }
         }
     };
 }
 
-so3_group!(So3Mat);
-so3_group!(So3Quat);
+so3_group!(So3Mat, as_matrix);
+so3_group!(So3Quat, to_matrix);
 
 /// `A·B` for 6×6 matrices.
-pub fn mul6<T: Real>(a: &Matrix6<T>, b: &Matrix6<T>) -> Matrix6<T> {
+pub fn mul6<T: SimdReal>(a: &Matrix6<T>, b: &Matrix6<T>) -> Matrix6<T> {
     let mut out = [[T::zero(); 6]; 6];
     for (i, row) in out.iter_mut().enumerate() {
         for (j, o) in row.iter_mut().enumerate() {
@@ -295,7 +295,7 @@ pub fn mul6<T: Real>(a: &Matrix6<T>, b: &Matrix6<T>) -> Matrix6<T> {
     out
 }
 
-fn identity6<T: Real>() -> Matrix6<T> {
+fn identity6<T: SimdReal>() -> Matrix6<T> {
     let mut out = [[T::zero(); 6]; 6];
     for (i, row) in out.iter_mut().enumerate() {
         row[i] = T::one();
@@ -303,7 +303,7 @@ fn identity6<T: Real>() -> Matrix6<T> {
     out
 }
 
-impl<B: Backend, R: Rotation<B>> LieGroup<B> for Se3<B, R> {
+impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for Se3<B, R> {
     const DOF: usize = 6;
     type Tangent = Twist<B>;
     type Jacobian = Matrix6<S<B>>;
@@ -351,9 +351,10 @@ impl<B: Backend, R: Rotation<B>> LieGroup<B> for Se3<B, R> {
     }
     /// `∂(R p + t)/∂X = [R, −R p^]` (right perturbation `(ρ, φ)`).
     fn act_jac(self, p: V3<B>) -> (V3<B>, Matrix3x6<S<B>>, M3<B>) {
-        let r = self.rotation.matrix();
+        // SO(3)'s adjoint is its rotation matrix.
+        let r = self.rotation.adjoint();
         let left = ops::elems::<B>(r);
-        let right = ops::elems::<B>(r * so3::hat::<B>(p) * S::<B>::lit(-1.0));
+        let right = ops::elems::<B>(r * so3::hat::<B>(p) * S::<B>::simd_lit(-1.0));
         let j = core::array::from_fn(|i| {
             core::array::from_fn(|k| if k < 3 { left[i][k] } else { right[i][k - 3] })
         });

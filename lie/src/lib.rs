@@ -111,7 +111,7 @@ pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;
 pub use quat::So3Quat;
 pub use real::Real;
-pub use rotation::{AttitudeErrors, Rotation, e_omega};
+pub use rotation::{AttitudeErrors, Rotation, So3Group, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian, se3_left_jacobian_inv};
 #[cfg(feature = "simd")]
 pub use simba::simd::{WideF32x8, WideF64x4};

@@ -37,6 +37,12 @@ impl<B: SimdBackend> So3Quat<B> {
     pub fn as_quaternion(self) -> B::Quat {
         self.0
     }
+    /// The rotation matrix ([`Rotation::matrix`](crate::Rotation::matrix)
+    /// under a name of its own, for lane backends, which have no `Rotation`).
+    #[inline]
+    pub fn to_matrix(self) -> M3<B> {
+        to_matrix::<B>(self.0)
+    }
     /// The identity rotation.
     #[inline]
     pub fn identity() -> Self {

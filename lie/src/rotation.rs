@@ -31,6 +31,23 @@ pub trait AttitudeErrors<B: SimdBackend>: Copy + Debug {
     fn body_axes(self) -> [V3<B>; 3];
 }
 
+/// The part of [`Rotation`] that every backend has, lane backends
+/// included: SO(3) as a [`LieGroup`] with rotation-vector tangents and 3×3
+/// Jacobians, plus the attitude errors. [`Se3`](crate::Se3) and
+/// [`RigidState`](crate::RigidState) are generic over it, so they run on
+/// lanes too. Implemented for every type with those two traits; the
+/// adjoint of SO(3) is its rotation matrix, which is how code written over
+/// this trait reads the matrix.
+pub trait So3Group<B: SimdBackend>:
+    LieGroup<B, Tangent = V3<B>, Jacobian = M3<B>, ActJacobian = M3<B>> + AttitudeErrors<B>
+{
+}
+
+impl<B: SimdBackend, T> So3Group<B> for T where
+    T: LieGroup<B, Tangent = V3<B>, Jacobian = M3<B>, ActJacobian = M3<B>> + AttitudeErrors<B>
+{
+}
+
 /// An element of SO(3) in some representation (rotation matrix or unit
 /// quaternion) on backend `B`. `R` maps body-frame vectors to the inertial
 /// frame.

@@ -5,9 +5,8 @@
 //! 6×6 matrices are plain row-major arrays so the crate needs no 6-D type
 //! from either backend.
 
-use crate::Real as _;
 use crate::backend::ops;
-use crate::{Backend, M3, Rotation, S, So3Mat, V3, series, so3};
+use crate::{M3, S, SimdBackend, SimdReal, So3Group, So3Mat, V3, series, so3};
 use num_traits::{One, Zero};
 
 /// A 6×6 matrix, row-major, indices `[row][col]`, twist order `(ρ, φ)`.
@@ -17,14 +16,14 @@ pub type Matrix4<T> = [[T; 4]; 4];
 
 /// A twist `(ρ, φ)`: `ρ` the translational part, `φ` the rotational part.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Twist<B: Backend> {
+pub struct Twist<B: SimdBackend> {
     /// Translational part.
     pub rho: V3<B>,
     /// Rotational part.
     pub phi: V3<B>,
 }
 
-impl<B: Backend> Twist<B> {
+impl<B: SimdBackend> Twist<B> {
     /// Builds a twist from its parts.
     #[inline]
     pub fn new(rho: V3<B>, phi: V3<B>) -> Self {
@@ -72,7 +71,7 @@ impl<B: Backend> Twist<B> {
 
 /// A rigid motion with the rotation in representation `R` (matrix by default).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Se3<B: Backend, R: Rotation<B> = So3Mat<B>> {
+pub struct Se3<B: SimdBackend, R: So3Group<B> = So3Mat<B>> {
     /// The rotation part.
     pub rotation: R,
     /// The translation part.
@@ -80,7 +79,7 @@ pub struct Se3<B: Backend, R: Rotation<B> = So3Mat<B>> {
 }
 
 /// Writes the 3×3 block `m` into `out` at (`r0`, `c0`).
-fn put_block<B: Backend>(out: &mut Matrix6<S<B>>, r0: usize, c0: usize, m: M3<B>) {
+fn put_block<B: SimdBackend>(out: &mut Matrix6<S<B>>, r0: usize, c0: usize, m: M3<B>) {
     let e = ops::elems::<B>(m);
     for (i, row) in e.iter().enumerate() {
         out[r0 + i][c0..c0 + 3].copy_from_slice(row);
@@ -88,7 +87,7 @@ fn put_block<B: Backend>(out: &mut Matrix6<S<B>>, r0: usize, c0: usize, m: M3<B>
 }
 
 /// `[[a, b], [0, a]]`, the shape of both the adjoint and the left Jacobian.
-fn upper_block<B: Backend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
+fn upper_block<B: SimdBackend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
     let mut out = [[S::<B>::zero(); 6]; 6];
     put_block::<B>(&mut out, 0, 0, a);
     put_block::<B>(&mut out, 0, 3, b);
@@ -99,7 +98,7 @@ fn upper_block<B: Backend>(a: M3<B>, b: M3<B>) -> Matrix6<S<B>> {
 /// The block `Q(ρ, φ)` of the SE(3) left Jacobian (Barfoot & Furgale 2014):
 /// `½ρ^ + C(φ^ρ^ + ρ^φ^ + φ^ρ^φ^) + E(φ^²ρ^ + ρ^φ^² − 3φ^ρ^φ^)
 ///  + F(φ^ρ^φ^² + φ^²ρ^φ^)`, coefficients in [`series`](crate::series).
-pub fn q_block<B: Backend>(rho: V3<B>, phi: V3<B>) -> M3<B> {
+pub fn q_block<B: SimdBackend>(rho: V3<B>, phi: V3<B>) -> M3<B> {
     let theta = ops::norm::<B>(phi);
     let (c, e, f) = (
         series::c_coeff(theta),
@@ -112,13 +111,13 @@ pub fn q_block<B: Backend>(rho: V3<B>, phi: V3<B>) -> M3<B> {
     let rp = r * p;
     let prp = pr * p;
     let pp = p * p;
-    r * S::<B>::lit(0.5)
+    r * S::<B>::simd_lit(0.5)
         + (pr + rp + prp) * c
-        + (pp * r + rp * p - prp * S::<B>::lit(3.0)) * e
+        + (pp * r + rp * p - prp * S::<B>::simd_lit(3.0)) * e
         + (prp * p + p * prp) * f
 }
 
-impl<B: Backend, R: Rotation<B>> Se3<B, R> {
+impl<B: SimdBackend, R: So3Group<B>> Se3<B, R> {
     /// Builds a motion from its parts.
     #[inline]
     pub fn new(rotation: R, translation: V3<B>) -> Self {
@@ -139,7 +138,7 @@ impl<B: Backend, R: Rotation<B>> Se3<B, R> {
     #[inline]
     pub fn compose(self, rhs: Self) -> Self {
         Self {
-            rotation: self.rotation * rhs.rotation,
+            rotation: self.rotation.compose(rhs.rotation),
             translation: self.rotation.act(rhs.translation) + self.translation,
         }
     }
@@ -176,12 +175,13 @@ impl<B: Backend, R: Rotation<B>> Se3<B, R> {
     }
     /// The 6×6 adjoint `[[R, t^ R], [0, R]]`: `exp((Ad ξ)^) = X exp(ξ^) X⁻¹`.
     pub fn adjoint(self) -> Matrix6<S<B>> {
-        let r = self.rotation.matrix();
+        // SO(3)'s adjoint is its rotation matrix.
+        let r = self.rotation.adjoint();
         upper_block::<B>(r, so3::hat::<B>(self.translation) * r)
     }
     /// The homogeneous 4×4 matrix.
     pub fn to_homogeneous(self) -> Matrix4<S<B>> {
-        let e = ops::elems::<B>(self.rotation.matrix());
+        let e = ops::elems::<B>(self.rotation.adjoint());
         let t = B::vec3_to_array(self.translation);
         let (z, o) = (S::<B>::zero(), S::<B>::one());
         [
@@ -193,7 +193,7 @@ impl<B: Backend, R: Rotation<B>> Se3<B, R> {
     }
 }
 
-impl<B: Backend, R: Rotation<B>> core::ops::Mul for Se3<B, R> {
+impl<B: SimdBackend, R: So3Group<B>> core::ops::Mul for Se3<B, R> {
     type Output = Self;
     #[inline]
     fn mul(self, rhs: Self) -> Self {
@@ -203,7 +203,7 @@ impl<B: Backend, R: Rotation<B>> core::ops::Mul for Se3<B, R> {
 
 /// The SE(3) left Jacobian `[[J_l(φ), Q(ρ, φ)], [0, J_l(φ)]]`:
 /// `exp((ξ + δ)^) ≈ exp((J δ)^) exp(ξ^)`.
-pub fn se3_left_jacobian<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
+pub fn se3_left_jacobian<B: SimdBackend>(xi: Twist<B>) -> Matrix6<S<B>> {
     upper_block::<B>(
         so3::left_jacobian::<B>(xi.phi),
         q_block::<B>(xi.rho, xi.phi),
@@ -212,8 +212,8 @@ pub fn se3_left_jacobian<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
 
 /// The inverse of the SE(3) left Jacobian: with `J_l = [[J, Q], [0, J]]`
 /// (`J` the SO(3) left Jacobian of `φ`), `J_l⁻¹ = [[J⁻¹, −J⁻¹QJ⁻¹], [0, J⁻¹]]`.
-pub fn se3_left_jacobian_inv<B: Backend>(xi: Twist<B>) -> Matrix6<S<B>> {
+pub fn se3_left_jacobian_inv<B: SimdBackend>(xi: Twist<B>) -> Matrix6<S<B>> {
     let jinv = so3::left_jacobian_inv::<B>(xi.phi);
     let q = q_block::<B>(xi.rho, xi.phi);
-    upper_block::<B>(jinv, jinv * q * jinv * S::<B>::lit(-1.0))
+    upper_block::<B>(jinv, jinv * q * jinv * S::<B>::simd_lit(-1.0))
 }

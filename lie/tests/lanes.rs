@@ -13,9 +13,11 @@
 //! of that.
 #![cfg(feature = "simd")]
 
+use lie::num_traits::{One, Zero};
 use lie::{
-    NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, SimdBackend, SimdReal, So3Mat,
-    So3Quat, left_jacobian, left_jacobian_inv, right_jacobian, right_jacobian_inv, series,
+    LieGroup, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real, RigidState, Se3,
+    SimdBackend, SimdReal, So3Mat, So3Quat, left_jacobian, left_jacobian_inv, right_jacobian,
+    right_jacobian_inv, series,
 };
 
 /// Rotation vectors covering every branch: zero, below and above each
@@ -140,7 +142,7 @@ macro_rules! ops_of {
         let ops: [(
             &str,
             fn(<$b as SimdBackend>::Vec3) -> Vec<<$b as SimdBackend>::Scalar>,
-        ); 10] = [
+        ); 12] = [
             ("So3Mat::exp", |p| {
                 flat_mat::<$b>(So3Mat::<$b>::exp(p).as_matrix())
             }),
@@ -156,6 +158,18 @@ macro_rules! ops_of {
             }),
             ("shepperd∘exp", |p| {
                 lie::shepperd::<$b>(So3Mat::<$b>::exp(p).as_matrix()).to_vec()
+            }),
+            ("So3Mat errors_to_identity", |p| {
+                let (e, psi) = So3Mat::<$b>::exp(p).errors_to_identity();
+                let mut out = flat_vec::<$b>(e);
+                out.push(psi);
+                out
+            }),
+            ("So3Quat errors_to_identity", |p| {
+                let (e, psi) = So3Quat::<$b>::exp(p).errors_to_identity();
+                let mut out = flat_vec::<$b>(e);
+                out.push(psi);
+                out
             }),
             ("J_l", |p| flat_mat::<$b>(left_jacobian::<$b>(p))),
             ("J_r", |p| flat_mat::<$b>(right_jacobian::<$b>(p))),
@@ -263,3 +277,255 @@ fn readme_example() {
     let last = lanes::vec3_lane::<NalgebraF64, NalgebraF64x4>(back, 3);
     assert!((last.x - PI).abs() < 1e-15);
 }
+
+// ---------------------------------------------------------------------------
+// Every operation of the `LieGroup` trait (⊕, ⊖, `between`, the adjoint, the
+// Jacobians and the Jacobians of each composite) on SO(3) in both
+// representations, SE(3) over each, and the rigid-body state, lanes against
+// scalar.
+
+/// One test case: six 3-vectors, read by [`tangent_of`] as the tangents of
+/// `X` and `Y` (rotation parts first two, the rest their other parts) and
+/// the point `p` (the last).
+type Case = [[f64; 3]; 6];
+
+/// Cases around 0 and π for `X`, `Y` and, which is what ⊖ and `between`
+/// see, for `X⁻¹Y`: every third case puts `Y` within 1e-7 of `X`, every
+/// third one `π − 1e-4` from it (a rotation about the axis of `X`, so the
+/// relative angle is known), the rest pair unrelated inputs.
+fn group_cases(n: usize) -> Vec<Case> {
+    let base = shuffled(n);
+    let len = base.len();
+    let pick = |i: usize| base[i % len];
+    let scaled = |v: [f64; 3], s: f64| v.map(|x| x * s);
+    (0..len)
+        .map(|k| {
+            let pa = pick(k);
+            let norm = (pa[0] * pa[0] + pa[1] * pa[1] + pa[2] * pa[2]).sqrt();
+            let axis = if norm > 0.0 {
+                scaled(pa, 1.0 / norm)
+            } else {
+                [0.0, 0.6, 0.8]
+            };
+            let pb = match k % 3 {
+                0 => core::array::from_fn(|i| pa[i] + 1e-7 * (i as f64 - 1.0)),
+                1 => core::array::from_fn(|i| pa[i] + (core::f64::consts::PI - 1e-4) * axis[i]),
+                _ => pick(7 * k + 3),
+            };
+            [
+                pa,
+                scaled(pick(11 * k + 5), 0.7),
+                pb,
+                scaled(pick(13 * k + 1), -1.3),
+                scaled(pick(5 * k + 2), 0.9),
+                scaled(pick(3 * k + 4), 2.0),
+            ]
+        })
+        .collect()
+}
+
+/// The lanes of `cases` (as many as `B` has) as backend vectors.
+fn load<B: SimdBackend>(cases: &[Case]) -> [B::Vec3; 6] {
+    core::array::from_fn(|j| {
+        let c = |k: usize| {
+            <B::Scalar as SimdReal>::simd_from_fn(|i| {
+                <<B::Scalar as SimdReal>::Element as Real>::lit(cases[i][j][k])
+            })
+        };
+        B::vec3(c(0), c(1), c(2))
+    })
+}
+
+/// A tangent of `G` from a case's vectors: SO(3) takes `φ`, SE(3) `(ρ, φ)`,
+/// the rigid-body state `(φ, x, v, Ω)`.
+fn tangent_of<B: SimdBackend, G: LieGroup<B>>(phi: B::Vec3, rest: [B::Vec3; 3]) -> G::Tangent {
+    let parts: [B::Vec3; 4] = match G::DOF {
+        3 | 12 => [phi, rest[0], rest[1], rest[2]],
+        6 => [rest[0], phi, rest[1], rest[2]],
+        d => panic!("no case layout for {d} degrees of freedom"),
+    };
+    G::tangent_from_fn(|i| B::vec3_to_array(parts[i / 3])[i % 3])
+}
+
+/// A group element as numbers: its action on 0 and on the three axes
+/// (the whole of an SO(3) or SE(3) element) and its log's coordinates
+/// (the rigid-body state's vector parts).
+fn element<B: SimdBackend, G: LieGroup<B>>(x: G) -> Vec<B::Scalar> {
+    let (z, o) = (B::Scalar::zero(), B::Scalar::one());
+    let mut out = Vec::new();
+    for p in [
+        B::vec3(z, z, z),
+        B::vec3(o, z, z),
+        B::vec3(z, o, z),
+        B::vec3(z, z, o),
+    ] {
+        out.extend(B::vec3_to_array(x.act(p)));
+    }
+    out.extend(tangent::<B, G>(&x.log()));
+    out
+}
+
+fn tangent<B: SimdBackend, G: LieGroup<B>>(t: &G::Tangent) -> Vec<B::Scalar> {
+    (0..G::DOF).map(|i| G::tangent_coord(t, i)).collect()
+}
+
+fn jacobian<B: SimdBackend, G: LieGroup<B>>(j: &G::Jacobian) -> Vec<B::Scalar> {
+    let d = G::DOF;
+    (0..d * d)
+        .map(|k| G::jacobian_entry(j, k / d, k % d))
+        .collect()
+}
+
+/// Every `LieGroup` operation of `G` on one case (or one lane group of
+/// cases), each flattened to numbers, in a fixed order with its name.
+fn group_ops<B: SimdBackend, G: LieGroup<B>>(
+    v: [B::Vec3; 6],
+) -> Vec<(&'static str, Vec<B::Scalar>)> {
+    let ta = tangent_of::<B, G>(v[0], [v[1], v[3], v[4]]);
+    let tb = tangent_of::<B, G>(v[2], [v[3], v[1], v[5]]);
+    let (x, y, p) = (G::exp(ta), G::exp(tb), v[5]);
+    let el = element::<B, G>;
+    let tg = |t: G::Tangent| tangent::<B, G>(&t);
+    let jc = |j: G::Jacobian| jacobian::<B, G>(&j);
+    let (acted, j_act, j_p) = x.act_jac(p);
+    let mut act = B::vec3_to_array(acted).to_vec();
+    act.extend((0..3 * G::DOF).map(|k| G::act_jacobian_entry(&j_act, k / G::DOF, k % G::DOF)));
+    act.extend(flat_mat::<B>(j_p));
+    let jac2 = |(e, a, b): (Vec<B::Scalar>, G::Jacobian, G::Jacobian)| {
+        let mut out = e;
+        out.extend(jc(a));
+        out.extend(jc(b));
+        out
+    };
+    vec![
+        ("exp", el(x)),
+        ("log∘exp", tg(x.log())),
+        ("compose", el(x.compose(y))),
+        ("inverse", el(x.inverse())),
+        ("act_jac", act),
+        ("adjoint", jc(x.adjoint())),
+        ("J_r", jc(G::right_jacobian(ta))),
+        ("J_r⁻¹", jc(G::right_jacobian_inv(ta))),
+        ("J_l", jc(G::left_jacobian(ta))),
+        ("J_l⁻¹", jc(G::left_jacobian_inv(ta))),
+        ("rplus", el(x.rplus(tb))),
+        ("lplus", el(x.lplus(tb))),
+        ("rminus", tg(y.rminus(x))),
+        ("lminus", tg(y.lminus(x))),
+        ("between", el(x.between(y))),
+        (
+            "compose_jac",
+            jac2({
+                let (c, a, b) = x.compose_jac(y);
+                (el(c), a, b)
+            }),
+        ),
+        ("inverse_jac", {
+            let (i, a) = x.inverse_jac();
+            let mut out = el(i);
+            out.extend(jc(a));
+            out
+        }),
+        (
+            "rplus_jac",
+            jac2({
+                let (c, a, b) = x.rplus_jac(tb);
+                (el(c), a, b)
+            }),
+        ),
+        (
+            "rminus_jac",
+            jac2({
+                let (t, a, b) = y.rminus_jac(x);
+                (tg(t), a, b)
+            }),
+        ),
+        (
+            "between_jac",
+            jac2({
+                let (c, a, b) = x.between_jac(y);
+                (el(c), a, b)
+            }),
+        ),
+    ]
+}
+
+/// The worst relative lane-vs-scalar difference of each operation of
+/// `group_ops` for group `G` on backend `B` and `H` on lanes `L`, over the
+/// cases; each component is compared relative to `max(1, |scalar|)`.
+fn group_worst<B, L, G, H>() -> Vec<(&'static str, f64)>
+where
+    B: SimdBackend<Scalar: Real>,
+    L: SimdBackend<Scalar: SimdReal<Element = B::Scalar>>,
+    G: LieGroup<B>,
+    H: LieGroup<L>,
+{
+    let n = <L::Scalar as SimdReal>::LANES;
+    let cases = group_cases(n);
+    let mut worst: Vec<(&'static str, f64)> = Vec::new();
+    for chunk in cases.chunks_exact(n) {
+        let got = group_ops::<L, H>(load::<L>(chunk));
+        for (i, case) in chunk.iter().enumerate() {
+            let want = group_ops::<B, G>(load::<B>(core::slice::from_ref(case)));
+            for (k, ((name, w), (_, g))) in want.iter().zip(&got).enumerate() {
+                if worst.len() <= k {
+                    worst.push((name, 0.0));
+                }
+                assert_eq!(w.len(), g.len(), "{name}");
+                for (w, g) in w.iter().zip(g) {
+                    let (w, g) = (w.to_f64_lossless(), g.simd_extract(i).to_f64_lossless());
+                    assert!(
+                        w.is_finite() && g.is_finite(),
+                        "{name} at {case:?}: {w} vs {g}"
+                    );
+                    worst[k].1 = worst[k].1.max((w - g).abs() / w.abs().max(1.0));
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Runs `group_worst` for one group on both lane widths and checks each
+/// operation against `ulps` units of the scalar type's ε.
+macro_rules! group_agreement {
+    ($test:ident, $g:ident, $ulps:expr) => {
+        #[test]
+        fn $test() {
+            let f64x4 =
+                group_worst::<NalgebraF64, NalgebraF64x4, $g<NalgebraF64>, $g<NalgebraF64x4>>();
+            let f32x8 =
+                group_worst::<NalgebraF32, NalgebraF32x8, $g<NalgebraF32>, $g<NalgebraF32x8>>();
+            let mut failed = Vec::new();
+            for ((name, w64), (_, w32)) in f64x4.iter().zip(&f32x8) {
+                let (u64, u32) = (w64 / f64::EPSILON, w32 / f32::EPSILON as f64);
+                println!(
+                    "{}: {name}: f64x4 {u64:.2} ulp, f32x8 {u32:.2} ulp",
+                    stringify!($g)
+                );
+                if u64 > $ulps || u32 > $ulps {
+                    failed.push(*name);
+                }
+            }
+            assert!(failed.is_empty(), "over {} ulp: {failed:?}", $ulps);
+        }
+    };
+}
+
+// The bound: a case's `X` and `Y` come from each backend's own `exp`, a
+// few ulp apart already (≤ 4.5 measured: "exp" rows), and a composite
+// (⊖, `between`, their Jacobians) composes, inverts and logs them again;
+// the worst measured is 14.5 ulp (SE(3) over quaternions, `rminus_jac`,
+// f64x4), so 32 ulp is about twice that and still far below any real
+// disagreement (a wrong branch moves an entry by O(1)).
+type So3MatG<B> = So3Mat<B>;
+type So3QuatG<B> = So3Quat<B>;
+type Se3Mat<B> = Se3<B, So3Mat<B>>;
+type Se3Quat<B> = Se3<B, So3Quat<B>>;
+type Rigid<B> = RigidState<B, So3Mat<B>>;
+
+group_agreement!(so3_matrix_group_ops_on_lanes, So3MatG, 32.0);
+group_agreement!(so3_quaternion_group_ops_on_lanes, So3QuatG, 32.0);
+group_agreement!(se3_group_ops_on_lanes, Se3Mat, 32.0);
+group_agreement!(se3_over_quaternions_group_ops_on_lanes, Se3Quat, 32.0);
+group_agreement!(rigid_state_group_ops_on_lanes, Rigid, 32.0);
