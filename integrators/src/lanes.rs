@@ -1,8 +1,9 @@
 //! The steppers on SIMD lanes (`lie`'s lane backends, feature `simd`): one
 //! call advances four or eight independent bodies, each lane with its own
 //! time, step size and fate. The stages are those of the scalar steppers
-//! ([`crate::Rk4`], [`crate::Rkmk4`], [`crate::Dopri`]) operation for
-//! operation, in generic copies (the scalar steppers keep their own code,
+//! ([`crate::Rk4`] plain and projected, [`crate::Rkmk4`], [`crate::Dopri`],
+//! [`crate::Lgvi`]: [`rk4_step`], [`rk4_projected_step`], [`rkmk4_step`],
+//! [`DopriLanes`], [`LgviLanes`]) operation for operation, in generic copies (the scalar steppers keep their own code,
 //! which is faster for one lane); the lane tests check every lane against
 //! the scalar stepper to the bit. What differs is failure: a lane whose
 //! state turns non-finite, or whose step cannot be controlled, is
@@ -18,6 +19,9 @@
 
 use lie::num_traits::{Float, One, Zero};
 use lie::{Backend, M3, S, SimdBackend, SimdMask, SimdReal, ops};
+
+mod lgvi;
+pub use lgvi::LgviLanes;
 
 use crate::dopri::{error_norm_lanes, trial_lanes};
 use crate::rk::{Body, Deriv, rk4_stages, rkmk4_stages};
@@ -35,6 +39,11 @@ pub trait LaneSystem<B: SimdBackend, const N: usize> {
     fn inertia_inv(&self) -> M3<B>;
     /// Whether `x` and `v` are integrated.
     fn translates(&self) -> bool {
+        true
+    }
+    /// Whether [`LaneSystem::load`] reads `v`, `Ω` or the extra states
+    /// (as [`crate::System::load_depends_on_rates`]).
+    fn load_depends_on_rates(&self) -> bool {
         true
     }
     /// Loads at time `t` (per lane) and state `y`.
@@ -62,6 +71,23 @@ pub fn rk4_step<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(
     let Ok(next) =
         rk4_stages::<B, core::convert::Infallible, N>(&b, |t, y| Ok(sys.load(t, y)), t, h, y);
     *y = next;
+}
+
+/// One RK4 step with the attitude projected back onto SO(3) afterwards
+/// (the stages and polar projection of [`crate::Rk4::projected`]) in every
+/// lane. Returns the lanes whose projection failed (non-finite state,
+/// `det R ≤ 0`, no convergence): their attitude is NaN, where the scalar
+/// stepper returns [`crate::StepError::NonFinite`].
+pub fn rk4_projected_step<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(
+    sys: &mut Sys,
+    t: S<B>,
+    h: S<B>,
+    y: &mut State<B, N>,
+) -> LaneMask<B> {
+    rk4_step(sys, t, h, y);
+    let (r, ok) = lie::So3Mat::<B>::project_lanes(y.body.r);
+    y.body.r = r.as_matrix();
+    !ok
 }
 
 /// One RKMK4 step of size `h` from `(t, y)` in every lane (the stages of
@@ -214,6 +240,10 @@ pub struct DopriLanes<B: SimdBackend, const N: usize> {
     calls: [u64; MAX_LANES],
     accepted: [u64; MAX_LANES],
     failure: [Option<LaneFailure>; MAX_LANES],
+    /// One step size for every live lane (see [`DopriLanes::shared_step`]).
+    shared: bool,
+    /// Lanes started and neither stopped nor failed (bit `i` for lane `i`).
+    live: u64,
 }
 
 impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
@@ -265,7 +295,30 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             calls: [0; MAX_LANES],
             accepted: [0; MAX_LANES],
             failure: [None; MAX_LANES],
+            shared: false,
+            live: 0,
         }
+    }
+
+    /// With `on`, every live lane takes the same trial step (the smallest
+    /// of their controlled sizes) and accepts or rejects it together, on
+    /// the largest error norm among them: the ensemble solvers' way (a
+    /// lane's result then depends on its neighbours, and every lane pays
+    /// for any lane's transient). Off (the default), each lane controls its
+    /// own step and equals the scalar [`crate::Dopri`]. A lane ending
+    /// within a shared step (its call ends sooner) still stops at its own
+    /// call end.
+    pub fn shared_step(mut self, on: bool) -> Self {
+        self.shared = on;
+        self
+    }
+
+    /// Takes lane `i` out of the shared step's decisions (its sample
+    /// ended and there is no next one); it goes on stepping, ignored,
+    /// until [`DopriLanes::start_lane`] starts it again. No effect on the
+    /// other lanes without [`DopriLanes::shared_step`].
+    pub fn stop_lane(&mut self, i: usize) {
+        self.live &= !(1 << i);
     }
 
     /// The states, every lane.
@@ -311,6 +364,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
         self.calls[i] = 0;
         self.accepted[i] = 0;
         self.failure[i] = None;
+        self.live |= 1 << i;
         self.fresh = self.fresh | lane;
     }
 
@@ -328,6 +382,9 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             self.fresh = LaneMask::<B>::splat(false);
         }
         let l = S::<B>::simd_lit;
+        if self.shared {
+            self.hs = S::<B>::simd_splat(self.live_min(self.hs));
+        }
         let remaining = self.t_end - self.t;
         let last = self.hs.simd_ge(remaining * l(1.0 - 1e-12));
         let hs = S::<B>::simd_select(last, remaining, self.hs);
@@ -350,7 +407,24 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             (&self.y, &self.k1, &zero),
             (self.t, hs),
         );
-        let en = error_norm_lanes(self.tol, self.tol, &b, (&self.y, &next, &err));
+        let mut en = error_norm_lanes(self.tol, self.tol, &b, (&self.y, &next, &err));
+        let finite_en = en.simd_is_finite();
+        // The live lane with the largest finite error, which decides a
+        // shared step (a lane whose error is not finite fails on its own).
+        let mut worst = None;
+        if self.shared {
+            let finite_bits = finite_en.bitmask();
+            for i in 0..<S<B> as SimdReal>::LANES {
+                let e = en.simd_extract(i);
+                if (self.live & finite_bits) >> i & 1 == 1 && worst.is_none_or(|(_, w)| e > w) {
+                    worst = Some((i, e));
+                }
+            }
+            if let Some((_, w)) = worst {
+                en = S::<B>::simd_select(finite_en, S::<B>::simd_splat(w), en);
+            }
+        }
+        let worst = worst.map(|(i, _)| i);
         // The controller's power, lane by lane on the element type: the
         // same `powf` as the scalar stepper's.
         let fac = S::<B>::simd_from_fn(|i| {
@@ -376,18 +450,20 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             * S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Float>::epsilon())
             * l(16.0);
         let too_small = self.hs.simd_le(floor).bitmask();
-        let (finite, accept, arrived_bits) = (
-            en.simd_is_finite().bitmask(),
-            accept.bitmask(),
-            arrived.bitmask(),
-        );
+        let (finite, accept, arrived_bits) =
+            (finite_en.bitmask(), accept.bitmask(), arrived.bitmask());
         let mut failed = 0u64;
         for i in 0..<S<B> as SimdReal>::LANES {
             let bit = |m: u64| m >> i & 1 == 1;
             if self.failure[i].is_some() {
                 continue;
             }
-            self.count[i] += 1;
+            // Under a shared step the substep cap charges the lane that
+            // decided the step: its neighbours' counts would otherwise
+            // fail them for another lane's transient.
+            if !self.shared || worst == Some(i) {
+                self.count[i] += 1;
+            }
             self.accepted[i] += u64::from(bit(accept));
             if bit(arrived_bits) {
                 continue;
@@ -403,6 +479,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             };
             if why.is_some() {
                 self.failure[i] = why;
+                self.live &= !(1 << i);
                 failed |= 1 << i;
             }
         }
@@ -411,6 +488,19 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
         }
         let failed = lie::lanes::mask_from_fn::<B>(|j| failed >> j & 1 == 1);
         Substep { arrived, failed }
+    }
+
+    /// The smallest value of `x` among the live lanes (lane 0's when no
+    /// lane is live: nothing then depends on it).
+    fn live_min(&self, x: S<B>) -> <S<B> as SimdReal>::Element {
+        let mut out = None;
+        for i in 0..<S<B> as SimdReal>::LANES {
+            if self.live >> i & 1 == 1 {
+                let v = x.simd_extract(i);
+                out = Some(out.map_or(v, |o: <S<B> as SimdReal>::Element| o.min(v)));
+            }
+        }
+        out.unwrap_or_else(|| x.simd_extract(0))
     }
 
     /// The arrived lanes begin their next call: time on the call grid,

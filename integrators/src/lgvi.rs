@@ -166,10 +166,11 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
     }
 }
 
-/// `cay(f) − I = 2/(1 + fᵀf) (f^ + f^²)`.
-pub(crate) fn cayley_minus_identity<B: Backend>(f: V3<B>) -> M3<B> {
+/// `cay(f) − I = 2/(1 + fᵀf) (f^ + f^²)` (on lanes too).
+#[inline]
+pub(crate) fn cayley_minus_identity<B: lie::SimdBackend>(f: V3<B>) -> M3<B> {
     let fh = hat::<B>(f);
-    let c = S::<B>::lit(2.0) / (S::<B>::one() + B::dot(f, f));
+    let c = <S<B> as lie::SimdReal>::simd_lit(2.0) / (S::<B>::one() + B::dot(f, f));
     (fh + fh * fh) * c
 }
 

@@ -14,8 +14,11 @@
 //! lanes' step sizes differ under Dormand–Prince.
 
 use dynamics::RigidBodyState;
-use integrators::lanes::{DopriLanes, LaneSystem, rk4_step, rkmk4_step, state_from_fn, state_lane};
-use integrators::{Dopri, Integrator, Load, Rk4, Rkmk4, State, System};
+use integrators::lanes::{
+    DopriLanes, LaneSystem, LgviLanes, rk4_projected_step, rk4_step, rkmk4_step, state_from_fn,
+    state_lane,
+};
+use integrators::{Dopri, EndLoad, Integrator, Lgvi, Load, Rk4, Rkmk4, State, System};
 use lie::{Backend, M3, NalgebraF64, NalgebraF64x4, S, SimdBackend, SimdReal, So3Mat, ops};
 
 type E = NalgebraF64;
@@ -107,15 +110,19 @@ fn bits(y: &State<E, 1>) -> Vec<u64> {
 }
 
 /// A lane stepper: `(system, t, h, y)`.
-type LaneStep = fn(&mut Spring<L>, S<L>, S<L>, &mut State<L, 1>);
+type LaneStep<'a> = &'a mut dyn FnMut(&mut Spring<L>, S<L>, S<L>, &mut State<L, 1>);
 
 fn fixed_step(lane: LaneStep, scalar: &mut dyn FnMut(&mut State<E, 1>), bound: f64) {
     let mut y = state_from_fn::<E, L, 1>(start);
     let mut sys = Spring::<L>::new();
     let h = <S<L> as SimdReal>::simd_lit(0.01);
-    for k in 0..300 {
-        let t = <S<L> as SimdReal>::simd_lit(k as f64 * 0.01);
+    // Time summed step by step, as the scalar closures sum it: the LGVI
+    // reuses its last load only when the next step starts at the time its
+    // previous step ended.
+    let mut t = <S<L> as SimdReal>::simd_lit(0.0);
+    for _ in 0..300 {
         lane(&mut sys, t, h, &mut y);
+        t += h;
     }
     for i in 0..4 {
         let mut s = start(i);
@@ -138,7 +145,7 @@ fn rk4_lanes_equal_the_scalar_rk4() {
     let mut rk4 = Rk4::default();
     let mut t = 0.0;
     fixed_step(
-        rk4_step,
+        &mut rk4_step,
         &mut |s| {
             rk4.step(&mut sys, t, 0.01, s).unwrap();
             t += 0.01;
@@ -147,12 +154,60 @@ fn rk4_lanes_equal_the_scalar_rk4() {
     );
 }
 
+/// The projection is the scalar one lane by lane (`lie`'s lane tests),
+/// so the projected steps are equal to the bit too.
+#[test]
+fn rk4_projected_lanes_equal_the_scalar_rk4_projected() {
+    let mut sys = Spring::<E>::new();
+    let mut rk4 = Rk4::projected();
+    let mut t = 0.0;
+    fixed_step(
+        &mut |sys, t, h, y| assert!(!lie::SimdMask::any(rk4_projected_step(sys, t, h, y))),
+        &mut |s| {
+            rk4.step(&mut sys, t, 0.01, s).unwrap();
+            t += 0.01;
+        },
+        0.0,
+    );
+}
+
+/// The LGVI is rational (Cayley map, cofactor inverses, no sin/cos), so
+/// its lanes equal the scalar stepper to the bit, with each lane's own
+/// Newton and end-point iteration counts and the start load reused from
+/// the previous step as the scalar stepper reuses it. The lanes start at
+/// different rates, so their Newton solves stop at different passes in
+/// most steps; iterated to rounding, so do their end-point iterations.
+#[test]
+fn lgvi_lanes_equal_the_scalar_lgvi() {
+    for end_load in [
+        EndLoad::Iterate { max: 50 },
+        EndLoad::IterateToRounding { max: 50 },
+        EndLoad::OneCorrection,
+    ] {
+        let mut sys = Spring::<E>::new();
+        let mut lgvi = Lgvi::<E, 1>::default();
+        lgvi.end_load = end_load;
+        let mut lanes = LgviLanes::<L, 1>::default();
+        lanes.end_load = end_load;
+        let mut t = 0.0;
+        fixed_step(
+            &mut |sys, t, h, y| assert!(!lie::SimdMask::any(lanes.step(sys, t, h, y))),
+            &mut |s| {
+                let st = lgvi.step(&mut sys, t, 0.01, s).unwrap();
+                assert_eq!(st.substeps, 1, "the scalar stepper halved a step");
+                t += 0.01;
+            },
+            0.0,
+        );
+    }
+}
+
 #[test]
 fn rkmk4_lanes_equal_the_scalar_rkmk4() {
     let mut sys = Spring::<E>::new();
     let mut t = 0.0;
     fixed_step(
-        rkmk4_step,
+        &mut rkmk4_step,
         &mut |s| {
             Rkmk4.step(&mut sys, t, 0.01, s).unwrap();
             t += 0.01;
@@ -206,4 +261,46 @@ fn dopri_lanes_equal_the_scalar_dopri_lane_by_lane() {
         differ,
         "every lane took the same substeps: the test does not exercise per-lane steps"
     );
+}
+
+/// The shared step: every lane takes the same substeps (the smallest
+/// controlled size, accepted on the largest error), so all four lanes
+/// accept as many substeps as the most demanding lane alone would, or
+/// more, and each lane stays within its tolerance of the scalar stepper's
+/// result. The bound: both hold the local error per substep below `tol`
+/// (relative to the state's size, ≤ ~10 here), and the spring–damper is
+/// contracting, so 60 calls (3 s) stay within 100 `tol`.
+#[test]
+fn shared_step_lanes_step_together_and_stay_within_tolerance() {
+    let (tol, call, calls) = (1e-8, 0.05, 60u64);
+    let mut lanes = DopriLanes::<L, 1>::new(tol, call, 10_000).shared_step(true);
+    for i in 0..4 {
+        lanes.start_lane::<E>(i, &start(i));
+    }
+    let mut sys = Spring::<L>::new();
+    while (0..4).any(|i| lanes.calls(i) < calls) {
+        let s = lanes.substep(&mut sys);
+        assert!(!lie::SimdMask::any(s.failed));
+    }
+    let mut most = 0;
+    for i in 0..4 {
+        assert_eq!(lanes.accepted(i), lanes.accepted(0), "lane {i}");
+        assert_eq!(lanes.calls(i), calls, "lane {i}");
+        let mut sys = Spring::<E>::new();
+        let mut dopri = Dopri::<E>::new(tol);
+        let mut y = start(i);
+        let mut accepted = 0;
+        for k in 0..calls {
+            let (t0, t1) = (k as f64 * call, (k + 1) as f64 * call);
+            accepted += u64::from(dopri.step(&mut sys, t0, t1 - t0, &mut y).unwrap().substeps);
+        }
+        most = most.max(accepted);
+        let diff = bits(&state_lane::<E, L, 1>(lanes.state(), i))
+            .iter()
+            .zip(bits(&y))
+            .map(|(x, y)| (f64::from_bits(*x) - f64::from_bits(y)).abs())
+            .fold(0.0, f64::max);
+        assert!(diff < 100.0 * tol, "lane {i}: {diff:e}");
+    }
+    assert!(lanes.accepted(0) >= most, "{} < {most}", lanes.accepted(0));
 }

@@ -364,6 +364,17 @@ pub mod ops {
         let [c0, c1, c2] = B::mat3_cols(m);
         B::dot(c0, B::cross(c1, c2))
     }
+    /// [`inverse`] in every lane, with the mask of lanes where it exists
+    /// (determinant non-zero and finite); the other lanes hold whatever the
+    /// division by their determinant gave.
+    #[inline(always)]
+    pub fn inverse_lanes<B: SimdBackend>(m: M3<B>) -> (M3<B>, <S<B> as SimdReal>::Mask) {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        let d = B::dot(c0, B::cross(c1, c2));
+        let ok = !d.simd_eq(S::<B>::zero()) & d.simd_is_finite();
+        let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
+        (B::mat3_transpose(cof) * (S::<B>::one() / d), ok)
+    }
     /// Inverse by cofactors, `None` when the determinant is zero or not
     /// finite. Cofactors (cross products of columns) keep it branch-free and
     /// exact enough for the well-conditioned 3×3 systems met here (inertia

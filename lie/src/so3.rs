@@ -6,11 +6,10 @@
 //! and the right one `exp(φ + δ) ≈ exp(φ) exp(J_r(φ) δ)`, with
 //! `J_r(φ) = J_l(−φ)`.
 
-use crate::Real as _;
 use crate::backend::ops;
 use crate::{
-    AttitudeErrors, Backend, LieError, M3, Rotation, S, SimdBackend, SimdReal as _, V3, convert,
-    series,
+    AttitudeErrors, Backend, LieError, M3, Real, Rotation, S, SimdBackend, SimdMask, SimdReal, V3,
+    convert, series,
 };
 use num_traits::{Float, One, Zero};
 
@@ -171,6 +170,50 @@ impl<B: Backend> So3Mat<B> {
     #[inline]
     pub fn from_axis_angle(axis: V3<B>, angle: S<B>) -> Self {
         Self::exp(axis * angle)
+    }
+}
+
+impl<B: SimdBackend> So3Mat<B> {
+    /// [`So3Mat::project`] in every lane: the polar factor by the same
+    /// scaled Newton iteration, each lane stopping where the scalar
+    /// iteration stops for that lane's matrix (a lane that has converged
+    /// keeps its iterate while the others go on), so each lane's result is
+    /// the scalar one to the bit. Returns the rotations and the mask of
+    /// lanes that succeeded; a lane that fails for one of `project`'s
+    /// reasons (non-finite input, `det ≤ 0`, no convergence in 30 steps)
+    /// is all NaN. The scalar `project` keeps its own code because it
+    /// reports which reason, with the number.
+    pub fn project_lanes(m: M3<B>) -> (Self, <S<B> as SimdReal>::Mask) {
+        type Mask<B> = <S<B> as SimdReal>::Mask;
+        let elem = |x: f64| <<S<B> as SimdReal>::Element as Real>::lit(x);
+        let half = S::<B>::simd_lit(0.5);
+        let tol = S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Float>::epsilon() * elem(8.0));
+        let [m0, m1, m2] = B::mat3_cols(m);
+        let mut failed: Mask<B> =
+            !(ops::finite_vec::<B>(m0) & ops::finite_vec::<B>(m1) & ops::finite_vec::<B>(m2));
+        let mut done = Mask::<B>::splat(false);
+        let mut x = m;
+        for _ in 0..30 {
+            let [c0, c1, c2] = B::mat3_cols(x);
+            let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
+            let det = B::dot(c0, B::cross(c1, c2));
+            // NaN-safe, as in `project`: a NaN determinant fails too.
+            let running = !(done | failed);
+            failed = failed | (running & !det.simd_gt(S::<B>::zero()));
+            let running = !(done | failed);
+            if !running.any() {
+                break;
+            }
+            let inv_t = cof * (S::<B>::one() / det);
+            let gamma = (ops::frob_norm::<B>(inv_t) / ops::frob_norm::<B>(x)).simd_sqrt();
+            let next = (x * gamma + inv_t * (S::<B>::one() / gamma)) * half;
+            let step = ops::frob_norm::<B>(next - x);
+            x = ops::select_mat::<B>(running, next, x);
+            done = done | (running & step.simd_le(tol));
+        }
+        let nan = S::<B>::simd_lit(f64::NAN);
+        let nan_mat = ops::diag::<B>(nan, nan, nan) * nan;
+        (Self(ops::select_mat::<B>(done, x, nan_mat)), done)
     }
 }
 

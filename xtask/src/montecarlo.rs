@@ -106,6 +106,12 @@ pub struct McArgs {
     /// step integrates across the kink.
     #[arg(long)]
     pub no_events: bool,
+    /// With --lanes: one dopri step size shared by the four lanes of an
+    /// instruction stream (the worst lane's error decides) instead of one
+    /// per lane. Slower, and a row then depends on its lane neighbours (a
+    /// replay with --index flies the sample alone); kept to compare.
+    #[arg(long, requires = "lanes")]
+    pub shared_step: bool,
 }
 
 /// `merge` and `near-pi`.
@@ -148,6 +154,7 @@ fn setup_from_args(a: &McArgs) -> Setup {
         // The lanes never locate sat′ crossings; recorded so that a
         // sample's replay (`--index`, scalar) reproduces its row.
         locate_events: !(a.no_events || a.lanes),
+        shared_step: a.shared_step,
     }
 }
 
@@ -225,6 +232,11 @@ pub fn run_indices(
             usage.busy + usage.idle,
             100.0 * usage.idle_fraction()
         );
+        if setup.shared_step {
+            println!(
+                "shared step: a row depends on the samples beside it in its lanes; the replays below fly a sample alone, with its own step"
+            );
+        }
         return Ok(rows);
     }
     setup

@@ -263,7 +263,8 @@ impl Shared<'_> {
         One: LaneSystem<E, 6> + Commanded<E>,
     {
         let setup = self.setup;
-        let mut dopri = DopriLanes::<L, 6>::new(setup.tol, setup.dt, MAX_SUBSTEPS);
+        let mut dopri = DopriLanes::<L, 6>::new(setup.tol, setup.dt, MAX_SUBSTEPS)
+            .shared_step(setup.shared_step);
         let mut lanes: [Option<Flight>; LANES] = Default::default();
         let mut rows = Vec::new();
         let mut usage = LaneUse::default();
@@ -303,6 +304,9 @@ impl Shared<'_> {
                         self.finish(&mut rows, row);
                     }
                     *lane = self.refill(&mut dopri, &mut one, i);
+                    if lane.is_none() {
+                        dopri.stop_lane(i);
+                    }
                 }
             }
         }
@@ -395,7 +399,7 @@ impl Setup {
             return Err(SimError::Setting {
                 field: "integrator",
                 message: format!(
-                    "`{}`: the lane path integrates with dopri only (a fixed-step rk4 at 0.01 s classified 2.5 % of samples differently from dopri)",
+                    "`{}`: the lane path integrates with dopri only (a fixed-step rk4, even at 0.0025 s, classified 1.4 % of samples differently from dopri: a stiff first transient that its step control resolves)",
                     self.integrator
                 ),
             });
