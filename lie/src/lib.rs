@@ -70,6 +70,17 @@
 //! `std` (default), `libm` (for `no_std`), `nalgebra` (default), `glam`
 //! (default). `cargo build -p lie --no-default-features --features glam,libm`
 //! builds the crate as `no_std`.
+//!
+//! `simd` adds two lane backends, `NalgebraF64x4` and `NalgebraF32x8`
+//! (nalgebra's types over simba's `WideF64x4`/`WideF32x8`): one value holds
+//! four or eight independent inputs, and the same generic formulas advance
+//! all of them at once. The scalar trait splits for them into [`SimdReal`]
+//! (a number or a vector of them; comparisons give a mask, every branch of
+//! a formula is a lane-wise select) and [`Real`]. SO(3) in both
+//! representations, [`Se3`], [`RigidState`] and the whole [`LieGroup`]
+//! trait run on lanes ([`So3Group`] is the part of [`Rotation`] they need);
+//! [`lanes`] moves values in and out. The scalar backends are unchanged by
+//! this: every [`Backend`] is a [`SimdBackend`] with one lane.
 
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
