@@ -3,8 +3,9 @@
 //! time, step size and fate. The stages are those of the scalar steppers
 //! ([`crate::Rk4`] plain and projected, [`crate::Rkmk4`], [`crate::Dopri`],
 //! [`crate::Lgvi`]: [`rk4_step`], [`rk4_projected_step`], [`rkmk4_step`],
-//! [`DopriLanes`], [`LgviLanes`]) operation for operation, in generic copies (the scalar steppers keep their own code,
-//! which is faster for one lane); the lane tests check every lane against
+//! [`DopriLanes`], [`LgviLanes`]) operation for operation, in generic
+//! copies (the scalar steppers keep their own code, which is faster for
+//! one lane); the lane tests check every lane against
 //! the scalar stepper to the bit. What differs is failure: a lane whose
 //! state turns non-finite, or whose step cannot be controlled, is
 //! *flagged* and its neighbours go on, where the scalar steppers return an
