@@ -82,12 +82,17 @@ pub struct Lgvi<B: Backend, const N: usize> {
     cache: Option<(S<B>, State<B, N>, Load<B, N>)>,
 }
 
+/// The Newton iteration cap of [`Lgvi::default`] (and of the lane LGVI's).
+pub(crate) const DEFAULT_MAX_NEWTON: u32 = 20;
+/// The end-load treatment of [`Lgvi::default`] (and of the lane LGVI's).
+pub(crate) const DEFAULT_END_LOAD: EndLoad = EndLoad::Iterate { max: 50 };
+
 impl<B: Backend, const N: usize> Default for Lgvi<B, N> {
     fn default() -> Self {
         Self {
-            max_newton: 20,
+            max_newton: DEFAULT_MAX_NEWTON,
             max_halvings: 8,
-            end_load: EndLoad::Iterate { max: 50 },
+            end_load: DEFAULT_END_LOAD,
             cache: None,
         }
     }
@@ -101,9 +106,15 @@ pub(crate) struct Solve<B: Backend> {
     pub converged: bool,
 }
 
-fn inf_norm<B: Backend>(v: V3<B>) -> S<B> {
+/// `max |v_i|`, lane-wise on lane backends (for `f32`/`f64` these are
+/// `Float::abs` and `Float::max`).
+#[inline(always)]
+pub(crate) fn inf_norm<B: lie::SimdBackend>(v: V3<B>) -> S<B> {
+    use lie::SimdReal as _;
     let a = B::vec3_to_array(v);
-    a[0].abs().max(a[1].abs()).max(a[2].abs())
+    a[0].simd_abs()
+        .simd_max(a[1].simd_abs())
+        .simd_max(a[2].simd_abs())
 }
 
 /// Solves `a + a × f + (a·f) f − 2Jf = 0` for the Cayley vector `f`.

@@ -344,6 +344,13 @@ pub mod ops {
         let a = B::vec3_to_array(v);
         a[0].simd_is_finite() & a[1].simd_is_finite() & a[2].simd_is_finite()
     }
+    /// The lanes of `m` with no entry NaN or ±∞ ([`is_finite_mat`] on
+    /// lanes).
+    #[inline(always)]
+    pub fn finite_mat<B: SimdBackend>(m: M3<B>) -> <S<B> as SimdReal>::Mask {
+        let [c0, c1, c2] = B::mat3_cols(m);
+        finite_vec::<B>(c0) & finite_vec::<B>(c1) & finite_vec::<B>(c2)
+    }
     /// True when no component is NaN or ±∞.
     #[inline(always)]
     pub fn is_finite_vec<B: Backend>(v: V3<B>) -> bool {

@@ -173,6 +173,13 @@ impl<B: Backend> So3Mat<B> {
     }
 }
 
+/// The all-NaN matrix a failed projection gives, so the failure shows at
+/// the next finiteness check instead of passing as a rotation.
+fn nan_matrix<B: SimdBackend>() -> M3<B> {
+    let nan = S::<B>::simd_lit(f64::NAN);
+    ops::diag::<B>(nan, nan, nan) * nan
+}
+
 impl<B: SimdBackend> So3Mat<B> {
     /// [`So3Mat::project`] in every lane: the polar factor by the same
     /// scaled Newton iteration, each lane stopping where the scalar
@@ -188,9 +195,7 @@ impl<B: SimdBackend> So3Mat<B> {
         let elem = |x: f64| <<S<B> as SimdReal>::Element as Real>::lit(x);
         let half = S::<B>::simd_lit(0.5);
         let tol = S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Float>::epsilon() * elem(8.0));
-        let [m0, m1, m2] = B::mat3_cols(m);
-        let mut failed: Mask<B> =
-            !(ops::finite_vec::<B>(m0) & ops::finite_vec::<B>(m1) & ops::finite_vec::<B>(m2));
+        let mut failed: Mask<B> = !ops::finite_mat::<B>(m);
         let mut done = Mask::<B>::splat(false);
         let mut x = m;
         for _ in 0..30 {
@@ -211,9 +216,7 @@ impl<B: SimdBackend> So3Mat<B> {
             x = ops::select_mat::<B>(running, next, x);
             done = done | (running & step.simd_le(tol));
         }
-        let nan = S::<B>::simd_lit(f64::NAN);
-        let nan_mat = ops::diag::<B>(nan, nan, nan) * nan;
-        (Self(ops::select_mat::<B>(done, x, nan_mat)), done)
+        (Self(ops::select_mat::<B>(done, x, nan_matrix::<B>())), done)
     }
 }
 
@@ -357,10 +360,7 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     /// passing as a rotation. Call `project` to handle the error.
     #[inline]
     fn normalized(self) -> Self {
-        Self::project(self.0).unwrap_or_else(|_| {
-            let nan = S::<B>::nan();
-            Self(ops::diag::<B>(nan, nan, nan) * nan)
-        })
+        Self::project(self.0).unwrap_or_else(|_| Self(nan_matrix::<B>()))
     }
 }
 

@@ -7,7 +7,7 @@ use lie::num_traits::{Float, One};
 use lie::{M3, S, SimdBackend, SimdMask, SimdReal, V3, hat, ops};
 
 use super::{LaneMask, LaneSystem, body, select_state};
-use crate::lgvi::cayley_minus_identity;
+use crate::lgvi::{DEFAULT_END_LOAD, DEFAULT_MAX_NEWTON, cayley_minus_identity, inf_norm};
 use crate::rk::Body;
 use crate::{EndLoad, Load, State};
 
@@ -15,14 +15,6 @@ type Elem<B> = <S<B> as SimdReal>::Element;
 
 fn splat<B: SimdBackend>(x: Elem<B>) -> S<B> {
     S::<B>::simd_splat(x)
-}
-
-/// `max |v_i|`, lane-wise.
-fn inf_norm<B: SimdBackend>(v: V3<B>) -> S<B> {
-    let a = B::vec3_to_array(v);
-    a[0].simd_abs()
-        .simd_max(a[1].simd_abs())
-        .simd_max(a[2].simd_abs())
 }
 
 /// `crate::lgvi::solve_cayley` in every lane: the Cayley vector and the
@@ -101,8 +93,7 @@ fn state_eq<B: SimdBackend, const N: usize>(a: &State<B, N>, b: &State<B, N>) ->
 
 /// Lanes whose state has no NaN or ±∞.
 fn state_finite<B: SimdBackend, const N: usize>(y: &State<B, N>) -> LaneMask<B> {
-    let [c0, c1, c2] = B::mat3_cols(y.body.r);
-    let mut ok = ops::finite_vec::<B>(c0) & ops::finite_vec::<B>(c1) & ops::finite_vec::<B>(c2);
+    let mut ok = ops::finite_mat::<B>(y.body.r);
     ok = ok & ops::finite_vec::<B>(y.body.x) & ops::finite_vec::<B>(y.body.v);
     ok = ok & ops::finite_vec::<B>(y.body.omega);
     for e in &y.extra {
@@ -146,8 +137,8 @@ impl<B: SimdBackend, const N: usize> Default for LgviLanes<B, N> {
     /// load iterated up to 50 times.
     fn default() -> Self {
         Self {
-            max_newton: 20,
-            end_load: EndLoad::Iterate { max: 50 },
+            max_newton: DEFAULT_MAX_NEWTON,
+            end_load: DEFAULT_END_LOAD,
             cache: None,
         }
     }
