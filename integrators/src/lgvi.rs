@@ -82,6 +82,28 @@ pub struct Lgvi<B: Backend, const N: usize> {
     cache: Option<(S<B>, State<B, N>, Load<B, N>)>,
 }
 
+impl EndLoad {
+    /// How many end-point passes at most, and the stopping tolerance
+    /// relative to the first pass's change (`None`: to rounding), for
+    /// loads that do or do not read the rates (then one pass is exact).
+    #[inline]
+    pub(crate) fn plan(self, depends_on_rates: bool) -> (u32, Option<f64>) {
+        let passes = match self {
+            _ if !depends_on_rates => 1,
+            EndLoad::OneCorrection => 1,
+            EndLoad::Iterate { max } | EndLoad::IterateToRounding { max } => max.max(1),
+        };
+        // What is left of the iteration once a pass changes the state by
+        // 1e-4 of the first (predictor) correction is O(h²)·1e-4: far below
+        // the O(h³) truncation error at the steps anyone takes.
+        let relative = match self {
+            EndLoad::Iterate { .. } => Some(1e-4),
+            _ => None,
+        };
+        (passes, relative)
+    }
+}
+
 /// The Newton iteration cap of [`Lgvi::default`] (and of the lane LGVI's).
 pub(crate) const DEFAULT_MAX_NEWTON: u32 = 20;
 /// The end-load treatment of [`Lgvi::default`] (and of the lane LGVI's).
@@ -249,18 +271,8 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         for i in 0..N {
             next.extra[i] = y.extra[i] + h * l0.extra_rate[i];
         }
-        let passes = match self.end_load {
-            _ if !sys.load_depends_on_rates() => 1,
-            EndLoad::OneCorrection => 1,
-            EndLoad::Iterate { max } | EndLoad::IterateToRounding { max } => max.max(1),
-        };
-        // What is left of the iteration once a pass changes the state by
-        // 1e-4 of the first (predictor) correction is O(h²)·1e-4: far below
-        // the O(h³) truncation error at the steps anyone takes.
-        let relative = match self.end_load {
-            EndLoad::Iterate { .. } => Some(l(1e-4)),
-            _ => None,
-        };
+        let (passes, relative) = self.end_load.plan(sys.load_depends_on_rates());
+        let relative = relative.map(l);
         let floor = S::<B>::epsilon() * l(4.0);
         let mut tol = floor;
         let mut converged = passes == 1;

@@ -217,15 +217,8 @@ impl<B: SimdBackend, const N: usize> LgviLanes<B, N> {
     ) -> (State<B, N>, Load<B, N>, LaneMask<B>) {
         let l = S::<B>::simd_lit;
         let half_h = h * l(0.5);
-        let passes = match self.end_load {
-            _ if !sys.load_depends_on_rates() => 1,
-            EndLoad::OneCorrection => 1,
-            EndLoad::Iterate { max } | EndLoad::IterateToRounding { max } => max.max(1),
-        };
-        let relative = match self.end_load {
-            EndLoad::Iterate { .. } => Some(l(1e-4)),
-            _ => None,
-        };
+        let (passes, relative) = self.end_load.plan(sys.load_depends_on_rates());
+        let relative = relative.map(l);
         let floor = splat::<B>(Elem::<B>::epsilon()) * l(4.0);
         let mut tol = floor;
         let mut done = LaneMask::<B>::splat(false);
