@@ -10,6 +10,11 @@ use lie::NalgebraF64 as B;
 /// B1 = 8 N (hover needs m g = 7.41 N), B2 = 0.1 (‖2J − tr J I‖ = 0.0102
 /// times ‖Ω_d‖ ≈ 10 rad/s), δ_x = ‖Δ_x‖∞ = 1 N, ψ1 = 0.05, e_xmax = 1 m.
 fn main() {
+    testkit::run(&[("paper_gains_report", paper_gains_report)]);
+}
+
+/// The paper's gains against its conditions: which hold, by how much.
+fn paper_gains_report() {
     let report = check_gains(
         &RigidBodyParams::<B>::paper(),
         &PositionGains::<B>::paper(),

@@ -67,6 +67,78 @@ fn allocation_determinant_and_inverse() {
     }
 }
 
+/// The paper's rotor convention by value, not through the inverse the
+/// code also computes. Rotor i sits at `d (cos((i−1)π/2), sin((i−1)π/2), 0)`
+/// in the body frame (rotor 1 on b1, rotor 2 on b2), pushes along −b3 (e3
+/// points down), and its drag torque about b3 is `τ_i = (−1)^i c_τf f_i`
+/// (the paper's quadrotor model). The wrench the body feels from a unit
+/// thrust on rotor i alone is then `r_i × (−e3) + τ_i e3`, written here
+/// from those positions and a cross product; `wrench_from_actuators` must
+/// give it, the allocation matrix must hold it as column i, and
+/// `actuators_from_wrench` must map it back to the unit vector. Flipping
+/// the spin directions (the yaw row and its inverse together) or the arm
+/// layout fails here even though allocation and inverse stay consistent.
+#[test]
+fn rotor_positions_and_spin_directions_are_the_papers() {
+    // The paper's numbers, written out (not read from `Quadrotor::paper`).
+    let (d, c) = (0.169, 0.0132);
+    let q = Quadrotor::<B>::paper();
+    assert_eq!((q.arm(), q.c_tau_f()), (d, c));
+    let a = q.allocation();
+    for i in 0..4 {
+        let ang = i as f64 * std::f64::consts::FRAC_PI_2;
+        let r = [d * ang.cos(), d * ang.sin(), 0.0];
+        let push = [0.0, 0.0, -1.0];
+        let arm = [
+            r[1] * push[2] - r[2] * push[1],
+            r[2] * push[0] - r[0] * push[2],
+            r[0] * push[1] - r[1] * push[0],
+        ];
+        let spin = if (i + 1) % 2 == 0 { 1.0 } else { -1.0 };
+        let expected = [1.0, arm[0], arm[1], arm[2] + spin * c];
+        let mut unit = [0.0; 4];
+        unit[i] = 1.0;
+        let w = q.wrench_from_actuators(&unit).unwrap();
+        let got = [w.thrust, w.moment[0], w.moment[1], w.moment[2]];
+        for k in 0..4 {
+            // cos(π/2) is 6e-17, not 0: the positions carry one rounding.
+            assert!(
+                (got[k] - expected[k]).abs() <= 1e-16,
+                "rotor {}: wrench row {k} is {}, the paper's {}",
+                i + 1,
+                got[k],
+                expected[k]
+            );
+            assert!(
+                (a[k][i] - expected[k]).abs() <= 1e-16,
+                "allocation[{k}][{i}]"
+            );
+        }
+        let mut back = [0.0; 4];
+        q.actuators_from_wrench(&w, &mut back).unwrap();
+        for k in 0..4 {
+            // Condition ~1/c: a few ulp of 1 times 76.
+            assert!(
+                (back[k] - unit[k]).abs() < 1e-13,
+                "rotor {}: {back:?}",
+                i + 1
+            );
+        }
+    }
+    // The sign of yaw by itself: a positive M3 (nose right about e3 down)
+    // needs the even rotors, whose drag torque is +c_τf f, to work harder.
+    let mut f = [0.0; 4];
+    let yaw = Wrench::<B> {
+        thrust: 4.0,
+        moment: <B as Backend>::vec3(0.0, 0.0, 0.01),
+    };
+    q.actuators_from_wrench(&yaw, &mut f).unwrap();
+    assert!(
+        f[1] > f[0] && f[3] > f[2] && f[1] == f[3] && f[0] == f[2],
+        "{f:?}"
+    );
+}
+
 #[test]
 fn rotor_limits_clamp_each_rotor() {
     let q = Quadrotor::<B>::paper()

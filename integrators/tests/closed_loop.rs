@@ -214,6 +214,14 @@ fn lgvi_end_load_stops_below_the_truncation_error() {
 /// (they are part of what the tests report); a failed fit panics, which fails
 /// the test binary.
 fn main() {
-    closed_loop_orders_with_continuous_control();
-    lgvi_end_load_stops_below_the_truncation_error();
+    testkit::run(&[
+        (
+            "closed_loop_orders_with_continuous_control",
+            closed_loop_orders_with_continuous_control,
+        ),
+        (
+            "lgvi_end_load_stops_below_the_truncation_error",
+            lgvi_end_load_stops_below_the_truncation_error,
+        ),
+    ]);
 }

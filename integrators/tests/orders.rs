@@ -138,9 +138,20 @@ fn heavy_top_orders_against_a_tight_reference() {
 /// (they are part of what the tests report); a failed fit panics, which fails
 /// the test binary.
 fn main() {
-    free_rigid_body_orders_against_the_exact_solution();
-    heavy_top_orders_against_a_tight_reference();
-    exact_free_body_holds_at_100_rad_per_s();
+    testkit::run(&[
+        (
+            "free_rigid_body_orders_against_the_exact_solution",
+            free_rigid_body_orders_against_the_exact_solution,
+        ),
+        (
+            "heavy_top_orders_against_a_tight_reference",
+            heavy_top_orders_against_a_tight_reference,
+        ),
+        (
+            "exact_free_body_holds_at_100_rad_per_s",
+            exact_free_body_holds_at_100_rad_per_s,
+        ),
+    ]);
 }
 
 /// The exact solution at a high rate: spinning at ~100 rad/s about the

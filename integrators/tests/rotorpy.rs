@@ -197,5 +197,8 @@ fn multirotor_matches_rotorpy_open_loop() {
 }
 
 fn main() {
-    multirotor_matches_rotorpy_open_loop();
+    testkit::run(&[(
+        "multirotor_matches_rotorpy_open_loop",
+        multirotor_matches_rotorpy_open_loop,
+    )]);
 }

@@ -495,8 +495,15 @@ fn jacobians_against_finite_differences() {
 }
 
 fn main() {
-    jacobians_against_finite_differences();
-    group_identities_to_rounding();
-    f32_agrees_with_f64_away_from_singular_points();
-    println!("group: Jacobians, identities and f32 agreement hold on every pair");
+    testkit::run(&[
+        (
+            "jacobians_against_finite_differences",
+            jacobians_against_finite_differences,
+        ),
+        ("group_identities_to_rounding", group_identities_to_rounding),
+        (
+            "f32_agrees_with_f64_away_from_singular_points",
+            f32_agrees_with_f64_away_from_singular_points,
+        ),
+    ]);
 }

@@ -11,22 +11,42 @@ pub fn at(samples: &[Sample], t: f64) -> Option<&Sample> {
 }
 
 /// Largest difference between two runs over their common sample times in
-/// x, v (and R entries), `(max |Δx|, max |Δv|, max |ΔR|)`.
+/// x, v (and R entries), `(max |Δx|, max |Δv|, max |ΔR|, compared)`:
+/// `compared` is how many samples of `a` found one of `b` at their time.
+///
+/// A NaN anywhere in a compared sample makes the figure NaN (`f64::max`
+/// would drop it), and no common sample at all gives NaN for all three:
+/// "nothing compared" must not read as "no difference", so a bound
+/// `d < tol` fails in both cases. Callers that expect every sample to be
+/// compared should also check `compared`.
 pub fn max_difference(a: &[Sample], b: &[Sample]) -> (f64, f64, f64, usize) {
     let (mut dx, mut dv, mut dr, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
     for s in a {
         if let Some(o) = at(b, s.t) {
             n += 1;
             for k in 0..3 {
-                dx = dx.max((s.x[k] - o.x[k]).abs());
-                dv = dv.max((s.v[k] - o.v[k]).abs());
+                dx = nan_max(dx, (s.x[k] - o.x[k]).abs());
+                dv = nan_max(dv, (s.v[k] - o.v[k]).abs());
                 for j in 0..3 {
-                    dr = dr.max((s.r[k][j] - o.r[k][j]).abs());
+                    dr = nan_max(dr, (s.r[k][j] - o.r[k][j]).abs());
                 }
             }
         }
     }
+    if n == 0 {
+        return (f64::NAN, f64::NAN, f64::NAN, 0);
+    }
     (dx, dv, dr, n)
+}
+
+/// `max` that keeps a NaN from either side (`f64::max` drops it): fold
+/// with it wherever a maximum decides a check.
+pub fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
 }
 
 /// Largest Ψ over samples with `t ≥ from`.
@@ -35,7 +55,7 @@ pub fn max_psi_after(samples: &[Sample], from: f64) -> f64 {
         .iter()
         .filter(|s| s.t >= from)
         .map(|s| s.psi)
-        .fold(0.0, f64::max)
+        .fold(0.0, nan_max)
 }
 
 /// Largest ‖e_x‖ over samples with `t ≥ from`.
@@ -44,7 +64,7 @@ pub fn max_ex_after(samples: &[Sample], from: f64) -> f64 {
         .iter()
         .filter(|s| s.t >= from)
         .map(|s| s.ex)
-        .fold(0.0, f64::max)
+        .fold(0.0, nan_max)
 }
 
 /// One point of a work-precision sweep.

@@ -7,7 +7,7 @@
 
 #![allow(clippy::needless_range_loop)] // index notation mirrors the component formulas
 
-use crate::metrics::{at, max_difference, max_ex_after, max_psi_after};
+use crate::metrics::{at, max_difference, max_ex_after, max_psi_after, nan_max};
 use crate::reference::rotation_f64;
 use crate::{RunOptions, RunOutput, Scene, SimError, builtin};
 
@@ -448,7 +448,7 @@ fn attitude_experiment(t: &mut Table<'_>) -> Result<(), SuiteError> {
     t.below(
         &n,
         "translation integrated (‖x‖ max)",
-        out.samples.iter().map(|s| norm(s.x)).fold(0.0, f64::max),
+        out.samples.iter().map(|s| norm(s.x)).fold(0.0, nan_max),
         0.0,
         "pinned vehicle: x stays exactly 0",
     );
@@ -577,7 +577,7 @@ fn free_body(t: &mut Table<'_>) -> Result<(), SuiteError> {
         .samples
         .iter()
         .map(|x| ((energy(x) - e0) / e0).abs())
-        .fold(0.0, f64::max);
+        .fold(0.0, nan_max);
     t.below(
         &n,
         "lgvi max |ΔE/E| over 100 s (10⁴ steps)",

@@ -4,7 +4,9 @@
 //! without panicking (an error is fine; a panic or a hang is not).
 //!
 //! `cargo test -p scenarios --test fuzz_scene` runs a short pass (the
-//! proptest default of 256 cases per property, or `PROPTEST_CASES`).
+//! proptest default of 256 cases per property, or `PROPTEST_CASES`) from
+//! a fixed seed (`PROPTEST_RNG_SEED` picks another); a failure prints the
+//! seed that reproduces it and is kept in `fuzz_scene.proptest-regressions`.
 //! The long campaign is an ignored test bounded by wall time:
 //!
 //! ```text
@@ -317,23 +319,47 @@ fn check(text: &str) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-proptest! {
-    #![proptest_config(Config { failure_persistence: None, ..Config::default() })]
+/// The seed of the short pass: fixed, so a run is repeatable and CI's
+/// result does not depend on the day; `PROPTEST_RNG_SEED=N` runs another.
+const SEED: u64 = 0x0005_CE7E_F022;
 
-    #[test]
-    fn mutated_scenes_never_panic(text in mutated()) {
-        check(&text)?;
-    }
+/// Where failing cases are kept: proptest re-runs them first on every
+/// later run (commit the file if it ever appears).
+const REGRESSIONS: &str = "tests/fuzz_scene.proptest-regressions";
 
-    #[test]
-    fn schema_words_never_panic(text in tomlish()) {
-        check(&text)?;
+/// Runs one property with the fixed seed (or `PROPTEST_RNG_SEED`) and the
+/// regression file; a failure panics with the seed that reproduces it.
+fn property<S: Strategy<Value = String>>(name: &str, strategy: S) {
+    use proptest::test_runner::{FileFailurePersistence, RngSeed};
+    let env = Config::default();
+    let seed = match env.rng_seed {
+        RngSeed::Fixed(s) => s,
+        RngSeed::Random => SEED,
+    };
+    let config = Config {
+        rng_seed: RngSeed::Fixed(seed),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(REGRESSIONS))),
+        ..env
+    };
+    let mut runner = TestRunner::new(config);
+    if let Err(e) = runner.run(&strategy, |t| check(&t)) {
+        panic!("{name}: {e}\nreproduce with PROPTEST_RNG_SEED={seed}");
     }
+}
 
-    #[test]
-    fn arbitrary_text_never_panics(text in ".{0,300}") {
-        check(&text)?;
-    }
+#[test]
+fn mutated_scenes_never_panic() {
+    property("mutated scenes", mutated());
+}
+
+#[test]
+fn schema_words_never_panic() {
+    property("schema words", tomlish());
+}
+
+#[test]
+fn arbitrary_text_never_panics() {
+    property("arbitrary text", ".{0,300}".prop_map(|s: String| s));
 }
 
 /// The long campaign: all three generators in turn, fresh seeds each round,
@@ -365,7 +391,8 @@ fn fuzz_for_a_while() {
             _ => runner.run(&".{0,300}", |t: String| check(&t)),
         };
         if let Err(e) = result {
-            panic!("round {round}: {e}");
+            let seed: String = seed.iter().map(|b| format!("{b:02x}")).collect();
+            panic!("round {round} (ChaCha seed {seed}): {e}");
         }
         cases += 500;
         round += 1;

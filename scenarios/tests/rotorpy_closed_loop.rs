@@ -18,6 +18,7 @@ use std::process::Command;
 use controllers::{ControlError, Mode, ModeOutput, VehicleState};
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState, Vehicle};
 use lie::{Backend, NalgebraF64, Rotation, S, So3Mat, ops};
+use scenarios::metrics::nan_max;
 use scenarios::{Control, Simulation, Until};
 
 type B = NalgebraF64;
@@ -256,19 +257,15 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
             let r: Vec<f64> = s.r.iter().flatten().copied().collect();
             let scale = w[19..23].iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let d = [
-                (0..3)
-                    .map(|k| (s.x[k] - w[1 + k]).abs())
-                    .fold(0.0, f64::max),
-                (0..3)
-                    .map(|k| (s.v[k] - w[4 + k]).abs())
-                    .fold(0.0, f64::max),
-                (0..9).map(|k| (r[k] - w[7 + k]).abs()).fold(0.0, f64::max),
+                (0..3).map(|k| (s.x[k] - w[1 + k]).abs()).fold(0.0, nan_max),
+                (0..3).map(|k| (s.v[k] - w[4 + k]).abs()).fold(0.0, nan_max),
+                (0..9).map(|k| (r[k] - w[7 + k]).abs()).fold(0.0, nan_max),
                 (0..3)
                     .map(|k| (s.omega[k] - w[16 + k]).abs())
-                    .fold(0.0, f64::max),
+                    .fold(0.0, nan_max),
                 (0..4)
                     .map(|k| (s.vehicle_states[k] - w[19 + k]).abs() / scale)
-                    .fold(0.0, f64::max),
+                    .fold(0.0, nan_max),
             ];
             for (a, b) in worst.iter_mut().zip(d) {
                 *a = a.max(b);
@@ -292,5 +289,8 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
 }
 
 fn main() {
-    se3control_as_a_mode_matches_rotorpy_closed_loop();
+    testkit::run(&[(
+        "se3control_as_a_mode_matches_rotorpy_closed_loop",
+        se3control_as_a_mode_matches_rotorpy_closed_loop,
+    )]);
 }

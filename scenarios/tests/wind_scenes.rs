@@ -6,6 +6,7 @@
 //! forming filters are solved exactly between grid points, so the gust
 //! field is a function of (seed, t) that every stepper samples alike.
 
+use scenarios::metrics::nan_max;
 use scenarios::scene::WindSpec;
 use scenarios::{RunOptions, RunOutput, Scene};
 
@@ -25,7 +26,7 @@ fn max_dx(a: &RunOutput, b: &RunOutput) -> f64 {
         .iter()
         .zip(&b.samples)
         .flat_map(|(p, q)| (0..3).map(move |k| (p.x[k] - q.x[k]).abs()))
-        .fold(0.0, f64::max)
+        .fold(0.0, nan_max)
 }
 
 #[test]

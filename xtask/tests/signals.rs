@@ -3,9 +3,57 @@
 //! readable CSV and MCAP files (every row whole, the MCAP finished with its
 //! summary and a `stopped` record); SIGKILL leaves only `.partial` files.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
+
+/// How long any wait on the child may take before the test fails: start-up
+/// and a megabyte of output take well under a second on this machine, an
+/// interrupted run closes its files in milliseconds.
+const PATIENCE: Duration = Duration::from_secs(60);
+
+/// The child run: killed and reaped when the guard goes, on every path,
+/// a failed assertion included (a panic unwinds through `drop`), so no
+/// hour-long run outlives its test.
+struct Run(Child);
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        if let Ok(None) = self.0.try_wait() {
+            let _ = self.0.kill();
+        }
+        let _ = self.0.wait();
+    }
+}
+
+impl Run {
+    /// Waits for the exit (at most `PATIENCE`) and returns the status and
+    /// what the child wrote to stderr. stderr is read on a thread of its
+    /// own, so a chatty child cannot block on a full pipe meanwhile.
+    fn finish(mut self) -> (ExitStatus, String) {
+        let mut pipe = self.0.stderr.take();
+        let reader = std::thread::spawn(move || {
+            let mut s = String::new();
+            if let Some(p) = pipe.as_mut() {
+                let _ = p.read_to_string(&mut s);
+            }
+            s
+        });
+        let t0 = Instant::now();
+        let status = loop {
+            if let Some(st) = self.0.try_wait().expect("the child can be waited for") {
+                break st;
+            }
+            assert!(
+                t0.elapsed() < PATIENCE,
+                "the child did not exit within {PATIENCE:?}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        (status, reader.join().unwrap_or_default())
+    }
+}
 
 fn dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("gpid-signals-{name}-{}", std::process::id()));
@@ -15,8 +63,8 @@ fn dir(name: &str) -> PathBuf {
 }
 
 /// An hour of hover at 1 kHz sampling: far longer than the test waits.
-fn start(d: &Path) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_xtask"))
+fn start(d: &Path) -> Run {
+    let child = Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args([
             "run",
             "hover-disturbed",
@@ -32,7 +80,8 @@ fn start(d: &Path) -> Child {
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("the xtask binary runs")
+        .expect("the xtask binary runs");
+    Run(child)
 }
 
 /// Waits until the run has written something (so the signal lands mid-run,
@@ -41,17 +90,14 @@ fn wait_for_output(d: &Path) {
     let t0 = Instant::now();
     let partial = d.join("a.csv.partial");
     while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 1 << 20 {
-        assert!(
-            t0.elapsed() < Duration::from_secs(60),
-            "no output after 60 s"
-        );
+        assert!(t0.elapsed() < PATIENCE, "no output after {PATIENCE:?}");
         std::thread::sleep(Duration::from_millis(20));
     }
 }
 
-fn signal(child: &Child, sig: &str) {
+fn signal(child: &Run, sig: &str) {
     let ok = Command::new("kill")
-        .args([sig, &child.id().to_string()])
+        .args([sig, &child.0.id().to_string()])
         .status()
         .unwrap()
         .success();
@@ -125,9 +171,8 @@ fn interrupted_run_leaves_complete_files(sig: &str, name: &str, code: i32) {
     let child = start(&d);
     wait_for_output(&d);
     signal(&child, sig);
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(code), "stderr: {stderr}");
+    let (status, stderr) = child.finish();
+    assert_eq!(status.code(), Some(code), "stderr: {stderr}");
     assert!(stderr.contains(&format!("stopped by {name}")), "{stderr}");
     for f in ["a.csv.partial", "a.mcap.partial"] {
         assert!(!d.join(f).exists(), "{f} left behind");
@@ -154,10 +199,10 @@ fn sigterm_closes_the_files_and_exits_143() {
 #[test]
 fn sigkill_leaves_only_partial_files() {
     let d = dir("SIGKILL");
-    let mut child = start(&d);
+    let child = start(&d);
     wait_for_output(&d);
     signal(&child, "-KILL");
-    let status = child.wait().unwrap();
+    let (status, _) = child.finish();
     assert_eq!(status.code(), None, "killed by a signal");
     assert!(d.join("a.csv.partial").exists());
     assert!(d.join("a.mcap.partial").exists());
@@ -172,7 +217,7 @@ fn sigkill_leaves_only_partial_files() {
 #[test]
 fn a_closed_pipe_ends_the_run_quietly() {
     use std::io::{BufRead, BufReader};
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let mut child = Run(Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args([
             "run",
             "hover-disturbed",
@@ -184,8 +229,8 @@ fn a_closed_pipe_ends_the_run_quietly() {
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        .unwrap());
+    let mut lines = BufReader::new(child.0.stdout.take().unwrap()).lines();
     let header = lines.next().unwrap().unwrap();
     assert!(header.starts_with("t,x1,x2,x3"), "{header}");
     for _ in 0..2 {
@@ -193,8 +238,7 @@ fn a_closed_pipe_ends_the_run_quietly() {
         assert!(row.split(',').count() == 26, "{row}");
     }
     drop(lines); // the reader goes away, as `head` does
-    let out = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(141), "stderr: {err}");
+    let (status, err) = child.finish();
+    assert_eq!(status.code(), Some(141), "stderr: {err}");
     assert!(!err.contains("error"), "{err}");
 }

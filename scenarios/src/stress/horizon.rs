@@ -75,13 +75,13 @@ pub(super) fn long_horizon(
                 .iter()
                 .filter(|x| x.t <= half)
                 .map(ortho)
-                .fold(0.0, f64::max);
+                .fold(0.0, nan_max);
             let second = out
                 .samples
                 .iter()
                 .filter(|x| x.t > half)
                 .map(ortho)
-                .fold(0.0, f64::max);
+                .fold(0.0, nan_max);
             // Below ~5000 ε the figure is rounding noise, not a drift.
             let floor = 5000.0 * eps(scalar);
             r.le(

@@ -11,6 +11,7 @@
 
 use std::path::Path;
 
+use crate::metrics::nan_max;
 use crate::output::{self, Sink};
 use crate::regress::SuiteError;
 use crate::scene::{AttitudeRef, Scalar, Timing};
@@ -265,7 +266,7 @@ fn max_abs_diff(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> f64 {
         .flatten()
         .zip(b.iter().flatten())
         .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
+        .fold(0.0, nan_max)
 }
 
 fn norm(v: [f64; 3]) -> f64 {
