@@ -703,10 +703,40 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
 
     let e_x = state.x - reference.x;
     let e_v = state.v - reference.v;
-    let (sat, slope) = sat_and_slope::<B>(e_i_pos, g_.sigma, g_.sat_branch);
+    // sat_σ, sat′ and the clamp written out from their definitions, not
+    // through the law's helpers: a broken helper must not break the law
+    // and its reference alike.
+    let sigma = g_.sigma;
+    let ei = B::vec3_to_array(e_i_pos);
+    let sat_c = |y: S<B>| {
+        if y > sigma {
+            sigma
+        } else if y < -sigma {
+            -sigma
+        } else {
+            y
+        }
+    };
+    let slope_c = |k: usize| match g_.sat_branch[k] {
+        SatBranch::Inside => s(1.0),
+        SatBranch::Outside => s(0.0),
+        SatBranch::Auto if ei[k].abs() <= sigma => s(1.0),
+        SatBranch::Auto => s(0.0),
+    };
+    let sat = B::vec3(sat_c(ei[0]), sat_c(ei[1]), sat_c(ei[2]));
+    let slope = B::vec3(slope_c(0), slope_c(1), slope_c(2));
+    // Held at ±σ: a component there stops growing outward.
+    let clamp = |rate: V3<B>| {
+        let r = B::vec3_to_array(rate);
+        let c = |k: usize| {
+            let outward = (ei[k] >= sigma && r[k] > s(0.0)) || (ei[k] <= -sigma && r[k] < s(0.0));
+            if outward { s(0.0) } else { r[k] }
+        };
+        B::vec3(c(0), c(1), c(2))
+    };
     let mut ei_rate = e_v + e_x * g_.c1;
     if g_.clamp_integral {
-        ei_rate = clamp_rate::<B>(e_i_pos, ei_rate, g_.sigma);
+        ei_rate = clamp(ei_rate);
     }
     let a_cmd =
         -cmul::<B>(g_.k_x, e_x) - cmul::<B>(g_.k_v, e_v) - cmul::<B>(g_.k_i, sat) - e3 * (m * g)
@@ -740,7 +770,7 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
     let ev_ddot = jerk - reference.jerk;
     let mut ei_rate_dot = ev_dot + e_v * g_.c1;
     if g_.clamp_integral {
-        ei_rate_dot = clamp_rate::<B>(e_i_pos, ei_rate_dot, g_.sigma);
+        ei_rate_dot = clamp(ei_rate_dot);
     }
     let a_ddot = -cmul::<B>(g_.k_x, ev_dot)
         - cmul::<B>(g_.k_v, ev_ddot)

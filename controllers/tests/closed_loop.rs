@@ -190,8 +190,11 @@ fn attitude_integral_converges_to_disturbance_over_k_i() {
         "attitude, k_I > 0: ‖e_I − Δ_R/k_I‖/‖Δ_R/k_I‖ = {err:.1e} after 200 s, Ψ = {:.1e}",
         psi.last().unwrap()
     );
-    // Slowest mode τ = 14.6 s: e^(−200/14.6) ≈ 1e-6 of the initial offset.
-    assert!(err < 1e-4 && *psi.last().unwrap() < 1e-8);
+    // Slowest mode τ = 14.6 s: e^(−200/14.6) ≈ 1e-6 of the initial offset
+    // (measured 1.1e-6; bound ~90×). Ψ is quadratic in the attitude error
+    // and the equilibrium is exact, so it sits at rounding: measured
+    // 7.1e-14, bound 70×.
+    assert!(err < 1e-4 && *psi.last().unwrap() < 5e-12);
 }
 
 #[test]
@@ -289,9 +292,12 @@ fn position_integral_converges_to_disturbance_over_k_i() {
         "position mode, paper gains, 120 s: ‖e_x‖ = {:.1e}, ‖e_i − Δ_x/k_i‖ = {err_i:.1e}",
         s.x.norm()
     );
-    // Slowest modes: position 2.74 s, attitude integral 14.6 s (which
-    // couples in through e_R); e^(−120/14.6) ≈ 3e-4 of an O(1) start.
-    assert!(s.x.norm() < 1e-4 && err_i < 1e-3);
+    // Slowest modes: position 2.74 s, attitude integral 14.6 s; from hover
+    // at x_d the slow attitude mode is hardly excited, and after 120 s both
+    // are at rounding level: measured ‖e_x‖ = 2.3e-14, ‖e_i − Δ_x/k_i‖ =
+    // 3.1e-13. Bounds ~40× and ~100× those: a law that lost its integral
+    // term, or its disturbance estimate, leaves 1e-2 here.
+    assert!(s.x.norm() < 1e-12 && err_i < 3e-11);
 }
 
 /// Without the integral term as disturbance estimate, the nominal model

@@ -89,10 +89,24 @@ fn rk4_energy_drifts_and_leaves_the_group_unless_projected() {
         "rk4 energy {quarter:.2e} → {last:.2e}"
     );
     assert!(last > rounding_bound(STEPS), "rk4 energy {last:.2e}");
+    // …and from above: RK4's drift at h = 0.01 is what its h⁴ error makes
+    // it, measured 7.38e-10 after 10⁵ steps (projection moves R, not E, so
+    // rk4-projected shows the same). Bound 4×: a third-order stepper would
+    // drift ~h⁻¹ = 100× more, a first-order one by 10⁻² and more.
+    for (name, e) in [("rk4", last), ("rk4-projected", *tp.energy.last().unwrap())] {
+        assert!(e < 3e-9, "{name} energy {e:.2e}");
+    }
     // Off the group: grows with t too, well past rounding.
     let o = &t.orthogonality;
     assert!(o.last().unwrap() > &(2.0 * o[o.len() / 4 - 1]));
     assert!(*o.last().unwrap() > 10.0 * rounding_bound(STEPS));
+    // Measured 2.23e-8: bound 5× (a lower-order stepper leaves the group
+    // at its own, far larger, truncation error).
+    assert!(
+        *o.last().unwrap() < 1e-7,
+        "rk4 orthogonality {:.2e}",
+        o.last().unwrap()
+    );
     // Projection keeps R on SO(3) to rounding (not the energy).
     assert!(*tp.orthogonality.last().unwrap() < rounding_bound(STEPS));
 }
@@ -102,6 +116,13 @@ fn rkmk4_stays_on_the_group() {
     let t = long_run::<B, _>(&mut Rkmk4, H, STEPS, 100);
     report("rkmk4", &t);
     assert!(*t.orthogonality.last().unwrap() < rounding_bound(STEPS));
+    // Its energy error is RK4's order (measured 7.38e-10): from above, so
+    // staying on the group cannot hide a lost order.
+    let e = *t.energy.last().unwrap();
+    assert!(
+        e < 3e-9 && e > rounding_bound(STEPS),
+        "rkmk4 energy {e:.2e}"
+    );
 }
 
 /// Dormand–Prince at tol 1e-12 against the exact solution over 10 s; the

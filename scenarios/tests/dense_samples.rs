@@ -142,9 +142,14 @@ fn samples_between_steps_have_the_methods_order() {
         println!(
             "{kind}: sample error {coarse:.2e} at h = {h}, {fine:.2e} at h/2: order {observed:.2}"
         );
-        // Halving the step leaves the order within 0.6 of the method's
-        // (a single halving on a run with two kinks of sat′).
-        assert!(observed > order - 0.6, "{kind}: order {observed:.2}");
+        // Halving the step gives the method's order from both sides:
+        // measured rk4 4.00, rkmk4 4.02, lgvi 2.00, euler 0.99 (the kinks
+        // of sat′ are located, so they cost nothing); ±0.3 is ten times
+        // the largest deviation and far from the next order.
+        assert!(
+            (observed - order).abs() < 0.3,
+            "{kind}: order {observed:.2}"
+        );
         let landed = sample_error(&run(&landing, RunOptions::default()).unwrap(), &reference);
         let interpolated = {
             let mut s = flip(kind, 1e-4);

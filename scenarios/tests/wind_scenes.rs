@@ -72,7 +72,11 @@ fn wind_scenes_repeat_byte_for_byte_and_do_not_depend_on_the_step() {
         // step.
         assert!(d12 < 1e-6, "{name}: {d12:e}");
         if d12 > 1e-10 {
-            assert!(d12 / d24 > 4.0, "{name}: {d12:e} then {d24:e}");
+            // From both sides: above 4 (order 2) and below 32 (order 5,
+            // more than RK4 can give: a ratio there means the two finer
+            // runs agree by accident, not by convergence).
+            let ratio = d12 / d24;
+            assert!(ratio > 4.0 && ratio < 32.0, "{name}: {d12:e} then {d24:e}");
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
