@@ -1006,6 +1006,44 @@ mod tests {
 
     /// Both fallbacks (‖A‖ → 0, b1d ∥ b3c) give the same command as the
     /// first implementation.
+    /// The thrust-direction guard of (eqn:A1) switches where its docs put
+    /// it, at `‖A‖ = √ε m g`: half of that is degenerate, twice is not
+    /// (in the law and in its first implementation alike). `A` is set
+    /// through the reference acceleration, `A = m(ẍ_d − g e3)` at rest on
+    /// the reference with zero integrals.
+    #[test]
+    fn the_thrust_direction_guard_switches_at_root_epsilon_m_g() {
+        let p = RigidBodyParams::<B>::paper();
+        let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
+        let z = B::vec3(0.0, 0.0, 0.0);
+        let st = VehicleState {
+            x: z,
+            v: z,
+            r: So3Mat::<B>::identity(),
+            omega: z,
+        };
+        let floor = f64::EPSILON.sqrt() * 0.755 * 9.81;
+        for (factor, degenerate) in [(0.5, true), (2.0, false)] {
+            let mut r = PositionReference::<B>::hold(z, B::vec3(0.0, 1.0, 0.0));
+            r.a = B::vec3(factor * floor / 0.755, 0.0, 9.81);
+            let input = PositionInput {
+                state: &st,
+                e_i_pos: z,
+                e_i_att: z,
+                reference: &r,
+                model: AccelerationModel::Nominal,
+            };
+            let a = position_control(&p, &pg, &ag, &input).unwrap();
+            let b = position_control_reference(&p, &pg, &ag, &input).unwrap();
+            for (name, d) in [("law", a.degeneracy), ("reference", b.degeneracy)] {
+                assert_eq!(
+                    d.thrust_direction_undefined, degenerate,
+                    "{name} at ‖A‖ = {factor} √ε m g"
+                );
+            }
+        }
+    }
+
     #[test]
     fn degenerate_cases_equal_the_first_implementation() {
         let p = RigidBodyParams::<B>::paper();

@@ -164,3 +164,51 @@ fn empty_plan_is_an_error() {
         Some(ControlError::EmptyPlan)
     );
 }
+
+/// What a scheduler asks of the paper's modes besides their command: both
+/// command a wrench (not rotor speeds), and the position mode reports its
+/// reference's position as the desired position at any time (the log's
+/// x_d); the attitude mode reports its thrust law's held position, and
+/// none under a constant thrust.
+#[test]
+fn the_papers_modes_command_wrenches_and_report_their_reference_position() {
+    let circle = |t: f64| {
+        let x = V::new(t.cos(), 2.0 * t.sin(), -0.5 * t);
+        PositionReference::hold(x, V::y())
+    };
+    let pos = PositionMode::new(
+        RigidBodyParams::<B>::paper(),
+        PositionGains::paper(),
+        AttitudeGains::paper(),
+        AccelerationModel::Nominal,
+        circle,
+    );
+    let att = AttitudeMode::new(
+        RigidBodyParams::<B>::paper(),
+        AttitudeGains::paper(),
+        flip,
+        AttitudeThrust::PdProjection {
+            gains: PositionGains::paper(),
+            reference: hold(),
+        },
+    );
+    assert!(!Mode::<B, R>::commands_rotor_speeds(&pos));
+    assert!(!Mode::<B, R>::commands_rotor_speeds(&att));
+    for t in [0.0f64, 0.7, 2.5] {
+        let want = [t.cos(), 2.0 * t.sin(), -0.5 * t];
+        assert_eq!(
+            Mode::<B, R>::desired_position(&pos, t),
+            Some(want),
+            "t = {t}"
+        );
+    }
+    assert_eq!(Mode::<B, R>::desired_position(&att, 1.0), Some([0.0; 3]));
+    let constant = AttitudeMode::<B, _, HoldPosition<B>>::new(
+        RigidBodyParams::<B>::paper(),
+        AttitudeGains::paper(),
+        flip,
+        AttitudeThrust::Constant(7.4),
+    );
+    assert!(!Mode::<B, R>::commands_rotor_speeds(&constant));
+    assert_eq!(Mode::<B, R>::desired_position(&constant, 1.0), None);
+}
