@@ -400,3 +400,59 @@ fn allocation_and_hover_on_every_pair() {
     allocation_on::<lie::GlamF64>();
     allocation_on::<GlamF32>();
 }
+
+/// The paper's frames and disturbances by value: e3 points down, so
+/// gravity is `+m g e3` and thrust acts along `−R e3`; `Δ_x` adds to the
+/// inertial force and `Δ_R` to the body moment with their signs, the
+/// paper's numbers `Δ_x = (−0.5, 0.2, 1) N`, `Δ_R = (0.2, −0.1, −0.02) N m`.
+/// With `R = Exp(θ e2)`, `R e3 = (sin θ, 0, cos θ)`.
+#[test]
+fn gravity_thrust_and_disturbances_have_the_papers_signs() {
+    let q = Quadrotor::<B>::paper()
+        .with_disturbance(Quadrotor::<B>::paper_disturbance())
+        .unwrap();
+    let theta: f64 = 0.4;
+    let state = RigidBodyState::<B> {
+        r: So3Mat::<B>::exp(<B as Backend>::vec3(0.0, theta, 0.0)).as_matrix(),
+        x: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        v: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        omega: <B as Backend>::vec3(0.0, 0.0, 0.0),
+    };
+    let (f, m) = (7.0, [0.01, -0.02, 0.003]);
+    let w = Wrench::<B> {
+        thrust: f,
+        moment: <B as Backend>::vec3(m[0], m[1], m[2]),
+    };
+    let l = loads(&q, 0.0, &state, &w);
+    let (mass, g) = (0.755, 9.81);
+    let force = [
+        -f * theta.sin() - 0.5,
+        0.2,
+        mass * g - f * theta.cos() + 1.0,
+    ];
+    let moment = [m[0] + 0.2, m[1] - 0.1, m[2] - 0.02];
+    for k in 0..3 {
+        assert!(
+            (l.force[k] - force[k]).abs() < 1e-15,
+            "force {k}: {} vs {}",
+            l.force[k],
+            force[k]
+        );
+        assert!((l.moment[k] - moment[k]).abs() < 1e-15, "moment {k}");
+    }
+    // Hover: thrust m g at R = I balances gravity and nothing else.
+    let hover = q.with_disturbance(dynamics::Disturbance {
+        force: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+    });
+    let l = loads(
+        &hover.unwrap(),
+        0.0,
+        &RigidBodyState::<B>::at_rest(),
+        &Wrench::<B> {
+            thrust: mass * g,
+            moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        },
+    );
+    assert!(ops::norm::<B>(l.force) < 1e-15);
+}
