@@ -9,7 +9,7 @@
 //! and the law's restoring moment is along `−a`.
 
 use controllers::*;
-use lie::{NalgebraF64 as B, Rotation, So3Mat};
+use lie::{NalgebraF64 as B, So3Mat};
 use nalgebra::{Matrix3, Vector3};
 
 type V = Vector3<f64>;
