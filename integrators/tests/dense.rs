@@ -9,7 +9,7 @@
 use dynamics::RigidBodyState;
 use integrators::State;
 use integrators::dense::{Rates, interpolate};
-use lie::{Backend, NalgebraF64, Rotation, So3Mat, V3, right_jacobian};
+use lie::{Backend, NalgebraF64, So3Mat, V3, right_jacobian};
 
 type B = NalgebraF64;
 
