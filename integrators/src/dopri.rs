@@ -585,12 +585,18 @@ mod tests {
         for i in 0..7 {
             worst = worst.max((a[i].iter().sum::<f64>() - C[i]).abs());
         }
-        for (got, want) in conditions(&a, &b, 5).into_iter().chain(conditions(&a, &b4, 4)) {
+        for (got, want) in conditions(&a, &b, 5)
+            .into_iter()
+            .chain(conditions(&a, &b4, 4))
+        {
             worst = worst.max((got - want).abs());
         }
         println!("Dormand–Prince order conditions: worst residual {worst:.1e}");
         assert!(worst < 1e-14, "{worst:e}");
         let c4 = pw(&pw(&C, &C), &pw(&C, &C));
-        assert!((dot(&b4, &c4) - 0.2).abs() > 1e-4, "the embedded pair must differ at order 5");
+        assert!(
+            (dot(&b4, &c4) - 0.2).abs() > 1e-4,
+            "the embedded pair must differ at order 5"
+        );
     }
 }

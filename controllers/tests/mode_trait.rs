@@ -1,0 +1,190 @@
+//! The `Mode` trait's defaults, its forwarding through `&mut M` (how a
+//! scheduler borrows a user's mode), and what the paper's two modes
+//! declare: their integral counts and that forcing a sat′ branch reaches
+//! the position law.
+
+use controllers::*;
+use lie::{NalgebraF64 as B, S, So3Mat};
+use nalgebra::Vector3;
+
+type V = Vector3<f64>;
+type R = So3Mat<B>;
+
+fn at_rest() -> VehicleState<B, R> {
+    VehicleState {
+        x: V::zeros(),
+        v: V::zeros(),
+        r: R::identity(),
+        omega: V::zeros(),
+    }
+}
+
+fn output(thrust: f64) -> ModeOutput<B> {
+    ModeOutput {
+        thrust,
+        moment: V::zeros(),
+        desired: R::identity(),
+        desired_omega: V::zeros(),
+        psi: 0.0,
+    }
+}
+
+/// A mode that answers only what it must.
+struct Bare;
+impl Mode<B> for Bare {
+    fn name(&self) -> &'static str {
+        "bare"
+    }
+    fn command(
+        &mut self,
+        _t: S<B>,
+        _s: &VehicleState<B, R>,
+        _i: &[S<B>],
+        _r: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        Ok(output(1.0))
+    }
+}
+
+/// A mode that overrides everything, with answers no default gives.
+#[derive(Default)]
+struct Full {
+    forced: Vec<(usize, SatBranch)>,
+    entered: u32,
+    bps: Vec<Breakpoint<B>>,
+}
+impl Mode<B> for Full {
+    fn name(&self) -> &'static str {
+        "full"
+    }
+    fn integral_count(&self) -> usize {
+        2
+    }
+    fn enter(&mut self, _t: S<B>, _s: &VehicleState<B, R>, integrals: &mut [S<B>]) {
+        self.entered += 1;
+        integrals[0] = 7.0;
+    }
+    fn command(
+        &mut self,
+        _t: S<B>,
+        _s: &VehicleState<B, R>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        rates[1] = -integrals[0];
+        Ok(output(2.0))
+    }
+    fn breakpoints(&self) -> &[Breakpoint<B>] {
+        &self.bps
+    }
+    fn force_branch(&mut self, index: usize, branch: SatBranch) {
+        self.forced.push((index, branch));
+    }
+    fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
+        Some([t, 2.0 * t, 3.0])
+    }
+    fn commands_rotor_speeds(&self) -> bool {
+        true
+    }
+    fn rotor_speeds(&mut self, t: S<B>, _s: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
+        speeds.iter_mut().for_each(|w| *w = 100.0 * t);
+        true
+    }
+}
+
+#[test]
+fn the_defaults_are_nothing_and_no() {
+    let mut m = Bare;
+    let mut speeds = [5.0; 4];
+    assert_eq!(m.integral_count(), 0);
+    assert!(m.breakpoints().is_empty());
+    assert_eq!(m.desired_position(1.0), None);
+    assert!(!m.commands_rotor_speeds());
+    assert!(!m.rotor_speeds(0.0, &at_rest(), &mut speeds));
+    assert_eq!(speeds, [5.0; 4], "the default writes no speeds");
+    let mut reg = [1.0, 2.0];
+    m.enter(0.0, &at_rest(), &mut reg);
+    assert_eq!(reg, [1.0, 2.0], "the default entry keeps the register");
+}
+
+#[test]
+fn a_borrowed_mode_answers_as_the_mode() {
+    let mut full = Full {
+        bps: vec![Breakpoint {
+            slot: 4,
+            level: 0.5,
+        }],
+        ..Default::default()
+    };
+    {
+        let mut m: &mut Full = &mut full;
+        let m: &mut dyn Mode<B> = &mut m;
+        assert_eq!(m.name(), "full");
+        assert_eq!(m.integral_count(), 2);
+        let mut reg = [0.0, 0.0];
+        m.enter(0.0, &at_rest(), &mut reg);
+        assert_eq!(reg[0], 7.0);
+        let mut rates = [0.0, 0.0];
+        let out = m.command(0.0, &at_rest(), &reg, &mut rates).unwrap();
+        assert_eq!((out.thrust, rates), (2.0, [0.0, -7.0]));
+        assert_eq!(m.breakpoints().len(), 1);
+        assert_eq!(m.breakpoints()[0].slot, 4);
+        m.force_branch(1, SatBranch::Outside);
+        assert_eq!(m.desired_position(2.0), Some([2.0, 4.0, 3.0]));
+        assert!(m.commands_rotor_speeds());
+        let mut speeds = [0.0; 4];
+        assert!(m.rotor_speeds(0.5, &at_rest(), &mut speeds));
+        assert_eq!(speeds, [50.0; 4]);
+    }
+    assert_eq!(full.entered, 1);
+    assert_eq!(full.forced, vec![(1, SatBranch::Outside)]);
+}
+
+fn position_mode() -> PositionMode<B, HoldPosition<B>> {
+    PositionMode::new(
+        RigidBodyParams::paper(),
+        PositionGains::paper(),
+        AttitudeGains::paper(),
+        AccelerationModel::Nominal,
+        HoldPosition(PositionReference::hold(V::zeros(), V::y())),
+    )
+}
+
+/// The register layouts the plan relies on: attitude `[e_I]`, position
+/// `[e_I, e_i]`; the position mode's breakpoints are e_i's three slots at
+/// ±σ; forcing a branch changes the law's command where sat′ decides.
+#[test]
+fn the_papers_modes_declare_their_register_and_obey_forced_branches() {
+    let att = AttitudeMode::<B, _, HoldPosition<B>>::new(
+        RigidBodyParams::paper(),
+        AttitudeGains::paper(),
+        |_t: f64| AttitudeReference {
+            rd: R::identity(),
+            omega_d: V::zeros(),
+            omega_d_dot: V::zeros(),
+        },
+        AttitudeThrust::Constant(7.4),
+    );
+    assert_eq!(Mode::<B>::integral_count(&att), 3);
+    let mut pos = position_mode();
+    assert_eq!(Mode::<B>::integral_count(&pos), 6);
+    let slots: Vec<(usize, f64)> = pos
+        .breakpoints()
+        .iter()
+        .map(|b| (b.slot, b.level))
+        .collect();
+    assert_eq!(slots, vec![(3, 1.0), (4, 1.0), (5, 1.0)]);
+    // e_i outside σ in its first component, moving: sat′ = 0 there unless
+    // the branch is forced inside.
+    let mut s = at_rest();
+    s.v = V::new(0.3, -0.2, 0.1);
+    let reg = [0.0, 0.0, 0.0, 1.5, 0.2, -0.1];
+    let mut rates = [0.0; 6];
+    let auto = pos.command(0.0, &s, &reg, &mut rates).unwrap();
+    pos.force_branch(0, SatBranch::Inside);
+    let inside = pos.command(0.0, &s, &reg, &mut rates).unwrap();
+    pos.force_branch(0, SatBranch::Auto);
+    let again = pos.command(0.0, &s, &reg, &mut rates).unwrap();
+    assert!((auto.desired_omega - inside.desired_omega).norm() > 1e-3);
+    assert_eq!(auto.desired_omega, again.desired_omega);
+}
