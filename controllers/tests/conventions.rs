@@ -100,3 +100,66 @@ fn the_feed_forward_terms_follow_the_reference() {
     assert!((out.psi - (1.0 - phi.cos())).abs() < 1e-15);
     assert!((out.moment - m).norm() < 1e-15, "{} vs {m}", out.moment);
 }
+
+/// The attitude mode's thrust (the position-PD projection of (eqn:f)
+/// without the integral): `f = (k_x e_x + k_v e_v + m g e3 − m ẍ_d)·R e3`,
+/// with every term non-zero and `R = Exp(θ e1)`, `R e3 = (0, −sin θ, cos θ)`.
+#[test]
+fn the_pd_thrust_projection_is_eqn_f_without_the_integral() {
+    let p = params();
+    let mut gains = PositionGains::<B>::paper();
+    gains.k_x = V::new(12.8, 11.0, 10.0);
+    gains.k_v = V::new(4.22, 4.0, 3.5);
+    let theta: f64 = 0.3;
+    let state = VehicleState {
+        x: V::new(0.5, -0.4, 0.3),
+        v: V::new(-0.2, 0.6, 0.1),
+        r: R::exp(V::new(theta, 0.0, 0.0)),
+        omega: V::zeros(),
+    };
+    let mut reference = PositionReference::<B>::hold(V::new(0.1, 0.2, -0.3), V::y());
+    reference.v = V::new(0.05, -0.1, 0.2);
+    reference.a = V::new(0.7, -0.3, 1.1);
+    let ex = state.x - reference.x;
+    let ev = state.v - reference.v;
+    let a = gains.k_x.component_mul(&ex)
+        + gains.k_v.component_mul(&ev)
+        + V::new(0.0, 0.0, p.mass * p.gravity)
+        - reference.a * p.mass;
+    let want = a.dot(&V::new(0.0, -theta.sin(), theta.cos()));
+    let got = thrust_pd_projection(&p, &gains, &state, &reference);
+    assert!((got - want).abs() < 1e-14, "{got} vs {want}");
+}
+
+/// A measured acceleration or jerk that is not finite is refused by name,
+/// each on its own (the other finite).
+#[test]
+fn a_non_finite_measured_acceleration_or_jerk_is_named() {
+    let (p, ag) = (params(), gains());
+    let pg = PositionGains::<B>::paper();
+    let state = VehicleState {
+        x: V::zeros(),
+        v: V::zeros(),
+        r: R::identity(),
+        omega: V::zeros(),
+    };
+    let reference = PositionReference::<B>::hold(V::zeros(), V::y());
+    let ok = V::new(0.0, 0.0, 0.1);
+    let nan = V::new(f64::NAN, 0.0, 0.0);
+    for (accel, jerk) in [(nan, ok), (ok, nan)] {
+        let input = PositionInput {
+            state: &state,
+            e_i_pos: V::zeros(),
+            e_i_att: V::zeros(),
+            reference: &reference,
+            model: AccelerationModel::Measured { accel, jerk },
+        };
+        let err = position_control(&p, &pg, &ag, &input).unwrap_err();
+        assert_eq!(
+            err,
+            ControlError::NonFinite {
+                field: "measured acceleration/jerk"
+            }
+        );
+    }
+}
