@@ -1044,6 +1044,44 @@ mod tests {
         }
     }
 
+    /// The heading guard (b1d ∥ b3c) switches at `‖b3c × b1d‖ =
+    /// √ε (1 + ‖b1d‖)`: half of that is degenerate, twice is not, in the
+    /// law and its first implementation. At rest on the reference `b3c`
+    /// is `e3`, so `b1d = (δ, 0, 1)` puts `‖b3c × b1d‖` at `δ`.
+    #[test]
+    fn the_heading_guard_switches_at_root_epsilon_times_one_plus_b1d() {
+        let p = RigidBodyParams::<B>::paper();
+        let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
+        let z = B::vec3(0.0, 0.0, 0.0);
+        let st = VehicleState {
+            x: z,
+            v: z,
+            r: So3Mat::<B>::identity(),
+            omega: z,
+        };
+        for (factor, degenerate) in [(0.5, true), (2.0, false)] {
+            // ‖b1d‖ = √(1 + δ²) = 1 to far below the factor's resolution.
+            let delta = factor * f64::EPSILON.sqrt() * 2.0;
+            let r = PositionReference::<B>::hold(z, B::vec3(delta, 0.0, 1.0));
+            let input = PositionInput {
+                state: &st,
+                e_i_pos: z,
+                e_i_att: z,
+                reference: &r,
+                model: AccelerationModel::Nominal,
+            };
+            let a = position_control(&p, &pg, &ag, &input).unwrap();
+            let b = position_control_reference(&p, &pg, &ag, &input).unwrap();
+            for (name, d) in [("law", a.degeneracy), ("reference", b.degeneracy)] {
+                assert!(!d.thrust_direction_undefined, "{name}");
+                assert_eq!(
+                    d.heading_undefined, degenerate,
+                    "{name} at δ = {factor} √ε (1 + ‖b1d‖)"
+                );
+            }
+        }
+    }
+
     #[test]
     fn degenerate_cases_equal_the_first_implementation() {
         let p = RigidBodyParams::<B>::paper();
