@@ -431,6 +431,39 @@ mod tests {
         }
     }
 
+    /// The gust's frame: the filters' `(u, v, w)` lie along the mean
+    /// wind's horizontal direction, across it (`e3 × û`, horizontal) and
+    /// along e3 (down), written out here for a mean wind from (3, 4, 0).
+    #[test]
+    fn gusts_lie_along_the_mean_wind_across_it_and_down() {
+        let mut spec = DrydenSpec::gusty();
+        spec.mean = [3.0, 4.0, 0.5];
+        let mut w = DrydenWind::new(spec).expect("valid");
+        let (along, across, down) = ([0.6, 0.8, 0.0], [-0.8, 0.6, 0.0], [0.0, 0.0, 1.0]);
+        for t in [0.37, 2.0, 5.55] {
+            let g = w.velocity(t, [0.0; 3]);
+            let k = (t / spec.grid).floor() as usize;
+            let x = w.advance(
+                w.states[k - w.first],
+                w.noise(k as u64),
+                t - k as f64 * spec.grid,
+            );
+            let [u, v, z] = w.output(x);
+            assert!(
+                u.abs() > 1e-3 && v.abs() > 1e-3 && z.abs() > 1e-3,
+                "all three gusts act"
+            );
+            for i in 0..3 {
+                let want = spec.mean[i] + u * along[i] + v * across[i] + z * down[i];
+                assert!(
+                    (g[i] - want).abs() < 1e-14,
+                    "t = {t}, axis {i}: {} vs {want}",
+                    g[i]
+                );
+            }
+        }
+    }
+
     /// `mean + amplitude · sin(2π f t + phase)`, component by component.
     #[test]
     fn sinusoid_is_mean_plus_amplitude_times_sine() {

@@ -268,3 +268,29 @@ fn lagged_rotors_apply_their_own_speeds() {
         );
     }
 }
+
+/// RotorPy's quadrotor layout in this crate's frame, by value: its rotor 1
+/// at `d(½√2, ½√2, 0)` z-up is `d(½√2, −½√2, 0)` here (y and z flip), the
+/// others a quarter turn apart counter-clockwise seen from above in
+/// RotorPy's frame, directions `+1, −1, +1, −1`.
+#[test]
+fn x_layout_is_rotorpys_in_this_frame() {
+    let d = 0.17;
+    let h = d * std::f64::consts::FRAC_1_SQRT_2;
+    let want = [
+        ([h, -h, 0.0], 1.0),
+        ([h, h, 0.0], -1.0),
+        ([-h, h, 0.0], 1.0),
+        ([-h, -h, 0.0], -1.0),
+    ];
+    let got = MultirotorParams::<B>::x_layout(d);
+    assert_eq!(got.len(), 4);
+    for (k, (r, (pos, dir))) in got.iter().zip(want).enumerate() {
+        assert_eq!(
+            (arr(r.position), r.direction),
+            (pos, dir),
+            "rotor {}",
+            k + 1
+        );
+    }
+}
