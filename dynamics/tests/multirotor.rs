@@ -294,3 +294,30 @@ fn x_layout_is_rotorpys_in_this_frame() {
         );
     }
 }
+
+/// What the simulation asks of the vehicle: one actuator per rotor, one
+/// state per rotor only under a motor lag, and without a lag (`τ_m = 0`)
+/// the rotors follow the command at once, so a hover command balances
+/// gravity in the total loads (four and six rotors).
+#[test]
+fn counts_and_the_lagless_loads_follow_the_rotors() {
+    for rotors in [4, 6] {
+        let mut p = params(rotors);
+        p.aero = false;
+        let lagged = Multirotor::new(p.clone()).unwrap();
+        assert_eq!(lagged.actuator_count(), rotors);
+        assert_eq!(lagged.state_count(), rotors);
+        p.tau_m = 0.0;
+        let v = Multirotor::new(p.clone()).unwrap();
+        assert_eq!(v.state_count(), 0);
+        let hover = Wrench::<B> {
+            thrust: p.mass * p.gravity,
+            moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        };
+        let l = v.total_loads(0.0, &RigidBodyState::<B>::at_rest(), &hover, &[]);
+        assert!(
+            l.force.norm() < 1e-13 && l.moment.norm() < 1e-15,
+            "{rotors} rotors: {l:?}"
+        );
+    }
+}
