@@ -464,6 +464,16 @@ mod tests {
         }
     }
 
+    /// A constant wind is its velocity everywhere, at every time.
+    #[test]
+    fn constant_wind_is_its_velocity() {
+        let mut w = ConstantWind([1.5, -2.0, 0.25]);
+        for (t, x) in [(0.0, [0.0; 3]), (7.5, [3.0, -1.0, 2.0])] {
+            assert_eq!(w.velocity(t, x), [1.5, -2.0, 0.25]);
+        }
+        assert!(w.jumps(10.0).is_empty());
+    }
+
     /// `mean + amplitude · sin(2π f t + phase)`, component by component.
     #[test]
     fn sinusoid_is_mean_plus_amplitude_times_sine() {
