@@ -464,6 +464,44 @@ mod tests {
         }
     }
 
+    /// The output gains are the Dryden spectra's (MIL-F-8785C): with
+    /// `T = L/V`, `H_u(s) = σ_u √(2L_u/(πV)) / (1 + T_u s)` and
+    /// `H_v(s) = σ_v √(L_v/(πV)) (1 + √3 T_v s)/(1 + T_v s)²` (and `w` as
+    /// `v`). The filters' states are `x_u` (`ẋ_u = (n − x_u)/T_u`) and per
+    /// lateral axis `x1` with `X1 = T² N/(1 + Ts)²`, `x2 = ẋ1`, so the
+    /// outputs must be `k_u x_u` and `k/T² x1 + √3 k/T x2`. Checked on unit
+    /// states with a different σ and L per axis, so a gain off by a few
+    /// per cent (which the variance test cannot see) or two axes swapped
+    /// fail here.
+    #[test]
+    fn output_gains_are_the_dryden_spectra() {
+        let mut spec = DrydenSpec::gusty();
+        spec.sigma = [1.2, 0.8, 0.5];
+        spec.length = [30.0, 20.0, 10.0];
+        let w = DrydenWind::new(spec).expect("valid");
+        let pi_v = std::f64::consts::PI * spec.speed;
+        let k = |s: f64, l: f64| s * (l / pi_v).sqrt();
+        let (tv, tw) = (20.0 / spec.speed, 10.0 / spec.speed);
+        let want = [
+            [1.2 * (2.0 * 30.0 / pi_v).sqrt(), 0.0, 0.0],
+            [0.0, k(0.8, 20.0) / (tv * tv), 0.0],
+            [0.0, k(0.8, 20.0) * 3f64.sqrt() / tv, 0.0],
+            [0.0, 0.0, k(0.5, 10.0) / (tw * tw)],
+            [0.0, 0.0, k(0.5, 10.0) * 3f64.sqrt() / tw],
+        ];
+        for (j, row) in want.iter().enumerate() {
+            let mut x = [0.0; 5];
+            x[j] = 1.0;
+            let got = w.output(x);
+            for i in 0..3 {
+                assert!(
+                    (got[i] - row[i]).abs() <= 1e-15 * row[i].abs(),
+                    "state {j}, output {i}"
+                );
+            }
+        }
+    }
+
     /// A constant wind is its velocity everywhere, at every time.
     #[test]
     fn constant_wind_is_its_velocity() {
