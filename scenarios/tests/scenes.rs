@@ -211,8 +211,14 @@ fn sampled_control_holds_between_samples_and_converges_to_continuous() {
     println!(
         "sampled 10 kHz vs continuous: max|Δx| {dx:.2e}, max|ΔR| {dr:.2e}; 100 Hz: max|Δx| {dx_slow:.2e}"
     );
+    // Measured 3.3e-4 and 4.4e-4: bounds 3× and 23×.
     assert!(dx < 1e-3 && dr < 1e-2, "{dx:.2e} {dr:.2e}");
-    assert!(dx_slow > 10.0 * dx, "a slower controller must deviate more");
+    // The hold's error is first order in the period: 100× the period,
+    // ~100× the deviation (measured 97). From both sides: a hold whose
+    // error did not scale with the period, or scaled with its square,
+    // lands outside.
+    let ratio = dx_slow / dx;
+    assert!(ratio > 50.0 && ratio < 200.0, "100 Hz / 10 kHz deviation {ratio:.1}");
 }
 
 /// A vehicle swap through the trait: the hexarotor with the paper's mass
