@@ -218,7 +218,10 @@ fn sampled_control_holds_between_samples_and_converges_to_continuous() {
     // error did not scale with the period, or scaled with its square,
     // lands outside.
     let ratio = dx_slow / dx;
-    assert!(ratio > 50.0 && ratio < 200.0, "100 Hz / 10 kHz deviation {ratio:.1}");
+    assert!(
+        ratio > 50.0 && ratio < 200.0,
+        "100 Hz / 10 kHz deviation {ratio:.1}"
+    );
 }
 
 /// A vehicle swap through the trait: the hexarotor with the paper's mass
