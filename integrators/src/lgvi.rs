@@ -410,6 +410,24 @@ mod tests {
 
     /// Spin about a principal axis: sin θ = h‖Ω‖, so h‖Ω‖ = 1.2 has no root.
     #[test]
+    fn an_unfinished_solve_is_not_a_root() {
+        // Newton from f = 0 needs 3–4 passes here (|a| = 0.9 of the
+        // limit); cut off after one, the iterate is near the root
+        // (|f| < 1, residual finite) but not on it, and must not count.
+        let j = ops::diag::<B>(1.0, 2.0, 3.0);
+        let a = j * B::vec3(0.3, -0.5, 0.6);
+        let one = solve_cayley::<B>(j, a, 1);
+        assert!(one.f.norm() < 1.0 && one.residual.is_finite() && one.residual > 1e-6);
+        assert!(
+            !one.converged,
+            "one pass reported as a root: residual {}",
+            one.residual
+        );
+        let full = solve_cayley::<B>(j, a, 20);
+        assert!(full.converged && full.residual < 1e-15, "{}", full.residual);
+    }
+
+    #[test]
     fn no_root_past_the_step_limit_is_detected() {
         let j = ops::diag::<B>(1.0, 2.0, 3.0);
         let ok = solve_cayley::<B>(j, j * B::vec3(0.0, 0.0, 0.9), 20);
