@@ -192,3 +192,80 @@ fn lgvi_step_satisfies_its_discrete_equations() {
     // Measured ≤ 8e-17 (Ω) and 3e-17 (v); bound ~100×.
     assert!(worst < 1e-14, "{worst:e}");
 }
+
+/// The one-step methods report one substep and their stage count per
+/// call (Euler 1, RK4 and RKMK4 4), with or without projection.
+#[test]
+fn fixed_steppers_report_their_stages() {
+    for (name, stages) in [("euler", 1), ("rk4", 4), ("rk4-projected", 4), ("rkmk4", 4)] {
+        let mut s = Stepper::<B, 1>::from_name(name, StepperConfig::default()).unwrap();
+        let mut y = start();
+        let stats = s
+            .step(
+                &mut Damped {
+                    c: 0.5,
+                    d: 0.4,
+                    rates: true,
+                },
+                0.0,
+                0.01,
+                &mut y,
+            )
+            .unwrap();
+        assert_eq!(
+            (stats.substeps, stats.evaluations, stats.rejected),
+            (1, stages, 0),
+            "{name}"
+        );
+    }
+}
+
+/// After `reset` (a simulation calls it when the dynamics change at an
+/// instant without the state changing: a mode switch), the LGVI must not
+/// reuse the start load it kept from the last step, also when it is
+/// driven through `Stepper`.
+#[test]
+fn reset_drops_the_lgvis_kept_load() {
+    struct Push(f64);
+    impl System<B, 1> for Push {
+        fn mass(&self) -> f64 {
+            1.0
+        }
+        fn inertia(&self) -> lie::M3<B> {
+            ops::diag::<B>(1.0, 2.0, 3.0)
+        }
+        fn load_depends_on_rates(&self) -> bool {
+            false
+        }
+        fn load(&mut self, _t: f64, _y: &State<B, 1>) -> Load<B, 1> {
+            Load {
+                force: B::vec3(0.0, 0.0, 0.0),
+                moment: B::vec3(self.0, 0.0, 0.0),
+                extra_rate: [0.0],
+            }
+        }
+    }
+    let mut s = Stepper::<B, 1>::from_name("lgvi", StepperConfig::default()).unwrap();
+    let mut y = start();
+    s.step(&mut Push(0.1), 0.0, 0.01, &mut y).unwrap();
+    let y1 = y;
+    s.reset();
+    s.step(&mut Push(-2.0), 0.01, 0.01, &mut y).unwrap();
+    let mut fresh = Lgvi::<B, 1>::default();
+    let mut want = y1;
+    fresh.step(&mut Push(-2.0), 0.01, 0.01, &mut want).unwrap();
+    assert_eq!(
+        y, want,
+        "the new load must be used from the start of the step"
+    );
+}
+
+/// Only the adaptive method hands out a copy to sample inside its long
+/// calls; the one-step methods are sampled by the cubic extension.
+#[test]
+fn only_dopri_has_a_resampler() {
+    for name in NAMES {
+        let s = Stepper::<B, 1>::from_name(name, StepperConfig::default()).unwrap();
+        assert_eq!(s.resampler().is_some(), name == "dopri", "{name}");
+    }
+}
