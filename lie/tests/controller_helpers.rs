@@ -27,8 +27,10 @@ fn check<B: Backend, R: Rotation<B>>(label: &str) {
         let axes = [B::vec3(o, z, z), B::vec3(z, o, z), B::vec3(z, z, o)];
         let d_axis = (0..3)
             .map(|k| dist(v64::<B>(r.body_axis(k)), v64::<B>(r.act(axes[k]))))
-            .fold(0.0, f64::max);
-        worst = worst.max(d_e).max(d_psi).max(d_axis);
+            .fold(0.0, testkit::nan_max);
+        worst = [d_e, d_psi, d_axis]
+            .into_iter()
+            .fold(worst, testkit::nan_max);
     }
     println!("[{label}] errors_to_identity / body_axis vs e_r, psi, act: {worst:.1e}");
     assert!(worst < tol, "{label}: {worst} ≥ {tol}");

@@ -118,7 +118,7 @@ where
                     w.is_finite() && g.is_finite(),
                     "non-finite at {p:?}: {w} vs {g}"
                 );
-                worst = worst.max((w - g).abs() / w.abs().max(1.0));
+                worst = testkit::nan_max(worst, (w - g).abs() / w.abs().max(1.0));
             }
         }
     }
