@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Per-file table of a cargo-mutants run, for docs/mutants.md.
 
-Usage: scripts/mutants-table.py OUTCOMES.json [--rerun RERUN.json ...]
+Usage: scripts/mutants-table.py RUN.json [RUN.json ...] [--rerun RERUN.json ...] [--list]
 
-Reads cargo-mutants' `outcomes.json` and prints, per source file, the
-mutants tested, caught, missed, unviable and timed out, with the caught
-fraction of the viable ones (caught + missed + timeout). A later run of
-some of the same mutants (`--rerun`, e.g. the missed ones re-tested after
-new tests) overrides their outcome, so the table shows "after".
-Timeouts count as not caught.
+Reads cargo-mutants' `outcomes.json` files (runs of disjoint parts of one
+sample are joined; a mutant in several keeps its last outcome) and
+prints, per source file, the mutants tested, caught, missed, unviable and
+timed out, with the caught fraction of the viable ones (caught + missed +
+timeout). A later run of some of the same mutants (`--rerun`, e.g. the
+viable ones re-tested after new tests) overrides only their outcome, so
+the table shows "after". Timeouts count as not caught. `--list` prints
+the mutants not caught instead of the table.
 """
 import json
 import sys
@@ -36,15 +38,24 @@ def outcomes(path):
 def main(argv):
     if not argv:
         sys.exit(__doc__)
-    result = outcomes(argv[0])
-    rest = argv[1:]
-    while rest:
-        if rest[0] != "--rerun" or len(rest) < 2:
+    show_list = "--list" in argv
+    argv = [a for a in argv if a != "--list"]
+    result = {}
+    while argv and argv[0] != "--rerun":
+        result.update(outcomes(argv[0]))
+        argv = argv[1:]
+    while argv:
+        if argv[0] != "--rerun" or len(argv) < 2:
             sys.exit(__doc__)
-        for name, (f, kind) in outcomes(rest[1]).items():
+        for name, (f, kind) in outcomes(argv[1]).items():
             if name in result:
                 result[name] = (f, kind)
-        rest = rest[2:]
+        argv = argv[2:]
+    if show_list:
+        for name, (_, kind) in sorted(result.items()):
+            if kind in ("missed", "timeout"):
+                print(f"{kind:8} {name}")
+        return
     table = defaultdict(lambda: defaultdict(int))
     for f, kind in result.values():
         table[f][kind] += 1
