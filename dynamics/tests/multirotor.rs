@@ -47,10 +47,29 @@ impl Rng {
 }
 
 /// The hummingbird with every aerodynamic term on (its own set has no
-/// flapping), on RotorPy's X layout or on six rotors.
+/// flapping), on RotorPy's X layout, on six rotors in a ring, or on five
+/// rotors placed irregularly (so that `AAᵀ` is a full matrix, not the
+/// diagonal one the symmetric layouts give, and the inverse is exercised).
 fn params(rotors: usize) -> MultirotorParams<B> {
     let mut p = MultirotorParams::<B>::hummingbird();
     p.k_flap = 2.1e-5;
+    if rotors == 5 {
+        let at = [
+            (0.1, 0.2),
+            (1.3, 0.15),
+            (2.2, 0.25),
+            (3.9, 0.18),
+            (5.0, 0.22),
+        ];
+        p.rotors = at
+            .iter()
+            .enumerate()
+            .map(|(k, &(a, r)): (usize, &(f64, f64))| dynamics::Rotor {
+                position: <B as Backend>::vec3(r * a.cos(), r * a.sin(), 0.01 * k as f64),
+                direction: if k % 2 == 0 { 1.0 } else { -1.0 },
+            })
+            .collect();
+    }
     if rotors == 6 {
         p.rotors = (0..6)
             .map(|k| {
@@ -113,7 +132,7 @@ fn rel(a: A3, b: A3) -> f64 {
 fn body_wrench_is_the_models_term_by_term() {
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
     let mut worst = 0.0f64;
-    for (rotors, aero) in [(4, true), (4, false), (6, true), (6, false)] {
+    for (rotors, aero) in [(4, true), (4, false), (5, true), (6, true), (6, false)] {
         let mut p = params(rotors);
         p.aero = aero;
         let v = Multirotor::new(p.clone()).unwrap();
@@ -169,13 +188,13 @@ fn loads_add_gravity_the_rotated_body_force_and_the_disturbance() {
 }
 
 /// Without aerodynamics the actuators are rotor thrusts `k_η ω²`: the
-/// allocation and its minimum-norm inverse round-trip (four and six
+/// allocation and its minimum-norm inverse round-trip (four, five and six
 /// rotors), the speed for a thrust is `√(f/k_η)` clamped to the limits,
 /// and the applied wrench at given speeds is the wrench of `k_η ω²`.
 #[test]
 fn thrusts_speeds_and_the_allocation_inverse() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    for rotors in [4, 6] {
+    for rotors in [4, 5, 6] {
         let mut p = params(rotors);
         p.aero = false;
         p.tau_m = 0.0;
