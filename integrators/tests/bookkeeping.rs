@@ -280,3 +280,45 @@ fn only_dopri_has_a_resampler() {
         assert_eq!(s.resampler().is_some(), name == "dopri", "{name}");
     }
 }
+
+/// A solution that blows up in finite time: `Ω̇₁ = c Ω₁²` about a
+/// principal axis (`M = c Ω₁² J e1`, no gyroscopic term on an axis)
+/// reaches infinity at `t* = 1/(c Ω₀)`. Dormand–Prince must stop there with
+/// `StepTooSmall`, at a step of at most `16 ε (|t| + h)` (its documented
+/// floor) and, shrinking by at most 5× per rejection, not far below it.
+#[test]
+fn dopri_stops_at_a_blow_up_with_its_step_floor() {
+    struct Blow;
+    impl System<B, 1> for Blow {
+        fn mass(&self) -> f64 {
+            1.0
+        }
+        fn inertia(&self) -> lie::M3<B> {
+            ops::diag::<B>(1.0, 2.0, 3.0)
+        }
+        fn load(&mut self, _t: f64, y: &State<B, 1>) -> Load<B, 1> {
+            let w = y.body.omega[0];
+            Load {
+                force: B::vec3(0.0, 0.0, 0.0),
+                moment: B::vec3(4.0 * w * w, 0.0, 0.0),
+                extra_rate: [0.0],
+            }
+        }
+    }
+    let mut y = State::<B, 1>::new(RigidBodyState::<B>::at_rest());
+    y.body.omega = B::vec3(1.0, 0.0, 0.0);
+    // t* = 1/(4·1) = 0.25 inside a call of 0.5 s.
+    let h_call = 0.5;
+    let err = Dopri::<B>::new(1e-10)
+        .step(&mut Blow, 0.0, h_call, &mut y)
+        .expect_err("the solution blows up at t = 0.25");
+    match err {
+        StepError::StepTooSmall { t, h } => {
+            let floor = 16.0 * f64::EPSILON * (t.abs() + h_call);
+            println!("blow-up: stopped at t = {t}, h = {h:e} (floor {floor:e})");
+            assert!((t - 0.25).abs() < 1e-6, "t = {t}");
+            assert!(h <= floor && h > 0.2 * floor, "h = {h:e}, floor {floor:e}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
