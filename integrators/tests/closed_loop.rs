@@ -124,7 +124,9 @@ fn closed_loop_orders_with_continuous_control() {
     let t_end = 2.0;
     let mut reference = State::<B, 6>::new(RigidBodyState::at_rest());
     let mut sys = system();
-    let mut dp = Dopri::<B>::new(1e-12);
+    // Capped far above what the reference needs, so that a broken step
+    // control fails instead of running on.
+    let mut dp = Dopri::<B>::new(1e-12).max_substeps(100_000);
     for k in 0..20 {
         dp.step(&mut sys, 0.1 * k as f64, 0.1, &mut reference)
             .unwrap();
@@ -177,7 +179,9 @@ fn lgvi_end_load_stops_below_the_truncation_error() {
     let h = t_end / n as f64;
     let mut reference = State::<B, 6>::new(RigidBodyState::at_rest());
     let mut sys = system();
-    let mut dp = Dopri::<B>::new(1e-12);
+    // Capped far above what the reference needs, so that a broken step
+    // control fails instead of running on.
+    let mut dp = Dopri::<B>::new(1e-12).max_substeps(100_000);
     for k in 0..20 {
         dp.step(&mut sys, 0.1 * k as f64, 0.1, &mut reference)
             .unwrap();

@@ -118,6 +118,7 @@ fn heavy_top_orders_against_a_tight_reference() {
     let mut reference = heavy_start();
     let mut sys = HeavyTop::<B>::standard();
     Dopri::<B>::new(1e-13)
+        .max_substeps(100_000)
         .step(&mut sys, 0.0, t_end, &mut reference)
         .unwrap();
     let (r_ref, w_ref) = (
