@@ -283,3 +283,29 @@ fn a_cancelled_study_returns_only_finished_samples() {
     }
     assert!(part.windows(2).all(|w| w[0].index < w[1].index));
 }
+
+/// The attitude experiment starts every sample at the origin at rest in
+/// translation (only R and Ω are drawn); the position experiment draws x
+/// and v too. A row reports the norms of the sample's own |Ω(0)| and
+/// ‖x(0)‖, written out here from the drawn initial condition.
+#[test]
+fn experiments_draw_what_they_study_and_rows_report_it() {
+    let mut att = setup();
+    att.experiment = "attitude".into();
+    att.deadline = 0.5;
+    let n = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    for i in 0..20 {
+        let p = att.initial(i);
+        assert_eq!((p.x, p.v), ([0.0; 3], [0.0; 3]), "attitude sample {i}");
+        assert!(n(p.omega) > 0.0);
+    }
+    let pos = setup();
+    assert!((0..20).all(|i| n(pos.initial(i).x) > 0.0 && n(pos.initial(i).v) > 0.0));
+    let mut short = pos.clone();
+    short.deadline = 0.5;
+    let rows = short.run(&[3, 4], Some(1), None).unwrap();
+    for r in &rows {
+        let p = short.initial(r.index);
+        assert_eq!((r.omega0, r.ex0), (n(p.omega), n(p.x)), "row {}", r.index);
+    }
+}
