@@ -309,3 +309,28 @@ fn experiments_draw_what_they_study_and_rows_report_it() {
         assert_eq!((r.omega0, r.ex0), (n(p.omega), n(p.x)), "row {}", r.index);
     }
 }
+
+/// The settle metric by value: `max(Ψ/psi_tol, ‖x‖/x_tol)` in the
+/// position experiment, `Ψ/psi_tol` alone in the attitude one.
+#[test]
+fn the_settle_metric_is_the_larger_tolerance_ratio() {
+    use lie::Backend;
+    type B = lie::GlamF64;
+    let mut s = setup();
+    s.psi_tol = 1e-3;
+    s.x_tol = 0.01;
+    let mut st = RigidBodyState::<B>::at_rest();
+    st.x = B::vec3(0.03, 0.0, -0.04);
+    let out = |psi: f64| controllers::ModeOutput::<B> {
+        thrust: 0.0,
+        moment: B::vec3(0.0, 0.0, 0.0),
+        desired: lie::So3Mat::<B>::identity(),
+        desired_omega: B::vec3(0.0, 0.0, 0.0),
+        psi,
+    };
+    // ‖x‖ = 0.05: 5 tolerances; Ψ = 2e-3: 2 (then 8e-3: 8).
+    assert_eq!(s.metric(&st, &out(2e-3)), 0.05 / 0.01);
+    assert_eq!(s.metric(&st, &out(8e-3)), 8e-3 / 1e-3);
+    s.experiment = "attitude".into();
+    assert_eq!(s.metric(&st, &out(2e-3)), 2e-3 / 1e-3);
+}
