@@ -186,7 +186,12 @@ fn a_blow_up_is_diverged_and_cheap() {
     assert!(!r.converged && r.t_converge.is_nan());
     // A run cut off by the cap reports no final figures (they would be
     // the blown-up state's).
-    assert!(r.final_psi.is_nan() && r.final_ex.is_nan(), "{} {}", r.final_psi, r.final_ex);
+    assert!(
+        r.final_psi.is_nan() && r.final_ex.is_nan(),
+        "{} {}",
+        r.final_psi,
+        r.final_ex
+    );
 }
 
 /// One thread or two give the same rows, and the rows survive the CSV.
