@@ -703,37 +703,8 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
 
     let e_x = state.x - reference.x;
     let e_v = state.v - reference.v;
-    // sat_σ, sat′ and the clamp written out from their definitions, not
-    // through the law's helpers: a broken helper must not break the law
-    // and its reference alike.
-    let sigma = g_.sigma;
-    let ei = B::vec3_to_array(e_i_pos);
-    let sat_c = |y: S<B>| {
-        if y > sigma {
-            sigma
-        } else if y < -sigma {
-            -sigma
-        } else {
-            y
-        }
-    };
-    let slope_c = |k: usize| match g_.sat_branch[k] {
-        SatBranch::Inside => s(1.0),
-        SatBranch::Outside => s(0.0),
-        SatBranch::Auto if ei[k].abs() <= sigma => s(1.0),
-        SatBranch::Auto => s(0.0),
-    };
-    let sat = B::vec3(sat_c(ei[0]), sat_c(ei[1]), sat_c(ei[2]));
-    let slope = B::vec3(slope_c(0), slope_c(1), slope_c(2));
-    // Held at ±σ: a component there stops growing outward.
-    let clamp = |rate: V3<B>| {
-        let r = B::vec3_to_array(rate);
-        let c = |k: usize| {
-            let outward = (ei[k] >= sigma && r[k] > s(0.0)) || (ei[k] <= -sigma && r[k] < s(0.0));
-            if outward { s(0.0) } else { r[k] }
-        };
-        B::vec3(c(0), c(1), c(2))
-    };
+    let (sat, slope) = written_out_sat::<B>(e_i_pos, g_);
+    let clamp = |rate: V3<B>| written_out_clamp::<B>(e_i_pos, rate, g_.sigma);
     let mut ei_rate = e_v + e_x * g_.c1;
     if g_.clamp_integral {
         ei_rate = clamp(ei_rate);
@@ -843,6 +814,48 @@ pub(crate) fn position_control_reference<B: Backend, R: Rotation<B>>(
         e_i_att_rate: att.e_i_rate,
         degeneracy,
     })
+}
+
+/// sat_σ(e_i) and sat′ for the reference law, written out from their
+/// definitions rather than through the law's helpers: a broken helper must
+/// not break the law and its reference alike.
+#[cfg(test)]
+fn written_out_sat<B: Backend>(e_i_pos: V3<B>, g: &PositionGains<B>) -> (V3<B>, V3<B>) {
+    let s = S::<B>::lit;
+    let sigma = g.sigma;
+    let ei = B::vec3_to_array(e_i_pos);
+    let sat_c = |y: S<B>| {
+        if y > sigma {
+            sigma
+        } else if y < -sigma {
+            -sigma
+        } else {
+            y
+        }
+    };
+    let slope_c = |k: usize| match g.sat_branch[k] {
+        SatBranch::Inside => s(1.0),
+        SatBranch::Outside => s(0.0),
+        SatBranch::Auto if ei[k].abs() <= sigma => s(1.0),
+        SatBranch::Auto => s(0.0),
+    };
+    (
+        B::vec3(sat_c(ei[0]), sat_c(ei[1]), sat_c(ei[2])),
+        B::vec3(slope_c(0), slope_c(1), slope_c(2)),
+    )
+}
+
+/// The anti-windup clamp for the reference law, written out likewise: a
+/// component held at ±σ stops growing outward.
+#[cfg(test)]
+fn written_out_clamp<B: Backend>(e_i_pos: V3<B>, rate: V3<B>, sigma: S<B>) -> V3<B> {
+    let zero = S::<B>::lit(0.0);
+    let (ei, r) = (B::vec3_to_array(e_i_pos), B::vec3_to_array(rate));
+    let c = |k: usize| {
+        let outward = (ei[k] >= sigma && r[k] > zero) || (ei[k] <= -sigma && r[k] < zero);
+        if outward { zero } else { r[k] }
+    };
+    B::vec3(c(0), c(1), c(2))
 }
 
 /// The reference law's inputs, all checked up front: the first that is not
