@@ -124,8 +124,13 @@ pub fn shoemake(rng: &mut Stream) -> [f64; 4] {
 }
 
 /// A uniform point in the ball of radius `r` (rejection from the cube).
+///
+/// # Panics
+/// If 1 000 draws in a row miss the ball. Each lands in it with
+/// probability π/6, so that happens only with a broken generator, and a
+/// panic then beats an endless loop.
 pub fn in_ball(rng: &mut Stream, r: f64) -> [f64; 3] {
-    loop {
+    for _ in 0..1000 {
         let p = [
             2.0 * uniform(rng) - 1.0,
             2.0 * uniform(rng) - 1.0,
@@ -135,6 +140,7 @@ pub fn in_ball(rng: &mut Stream, r: f64) -> [f64; 3] {
             return p.map(|c| c * r);
         }
     }
+    panic!("1 000 points drawn from the cube all missed the unit ball: `uniform` is broken")
 }
 
 /// The settle predicate with its hold: `m(t) < 1` from `entered` on, for
@@ -446,30 +452,31 @@ impl<D, S, G, M> Study<D, S, G, M> {
     }
 }
 
-#[cfg(feature = "parallel")]
+/// `f` over `indices`, in order: on a pool of `threads` threads (all
+/// cores for `None`) with the `parallel` feature, in turn without it. One
+/// body for both, so that the default build's tests cover it.
 fn parallel_map<T: Send>(
     indices: &[u64],
     threads: Option<usize>,
     f: impl Fn(&u64) -> Result<T, SimError> + Sync + Send,
 ) -> Result<Vec<T>, SimError> {
-    use rayon::prelude::*;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| SimError::Setting {
-            field: "threads",
-            message: format!("{threads:?}: {e}"),
-        })?;
-    pool.install(|| indices.par_iter().map(f).collect())
-}
-
-#[cfg(not(feature = "parallel"))]
-fn parallel_map<T: Send>(
-    indices: &[u64],
-    _threads: Option<usize>,
-    f: impl Fn(&u64) -> Result<T, SimError> + Sync + Send,
-) -> Result<Vec<T>, SimError> {
-    indices.iter().map(f).collect()
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.unwrap_or(0))
+            .build()
+            .map_err(|e| SimError::Setting {
+                field: "threads",
+                message: format!("{threads:?}: {e}"),
+            })?;
+        pool.install(|| indices.par_iter().map(f).collect())
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        let _ = threads;
+        indices.iter().map(f).collect()
+    }
 }
 
 /// Largest commanded and rotor thrust over the samples a run takes.

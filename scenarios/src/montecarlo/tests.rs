@@ -202,6 +202,13 @@ fn rows_do_not_depend_on_threads_and_round_trip() {
     let all: Vec<u64> = (0..6).collect();
     let one = s.run(&all, Some(1), None).unwrap();
     let two = s.run(&all, Some(2), None).unwrap();
+    let order: Vec<u64> = one.iter().map(|r| r.index).collect();
+    assert_eq!(order, all, "one row per sample, in index order");
+    // The study's step count is the rows' (which read the runs directly).
+    let trials = s.study().run(&all, Some(2), None).unwrap();
+    let steps: u64 = one.iter().map(|r| r.steps).sum();
+    assert!(steps > 0);
+    assert_eq!(Summary::of(&trials).integrator_steps, steps);
     // As text: NaN (not converged) is not equal to itself as f64.
     assert_eq!(write_samples(&one), write_samples(&two));
     let back = parse_samples(&write_samples(&one)).unwrap();
@@ -341,4 +348,63 @@ fn the_settle_metric_is_the_larger_tolerance_ratio() {
     assert_eq!(s.metric(&st, &out(8e-3)), 8e-3 / 1e-3);
     s.experiment = "attitude".into();
     assert_eq!(s.metric(&st, &out(2e-3)), 2e-3 / 1e-3);
+}
+
+/// A cancel set while a sample flies interrupts that sample: it is not
+/// reported (its figures would be of a cut-off run). Here the sample's
+/// own settle metric sets the flag at t = 0.5 s of a 2 s deadline.
+#[test]
+fn a_cancel_during_a_sample_interrupts_it() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut s = setup();
+    s.deadline = 2.0;
+    let flag = AtomicBool::new(false);
+    let inner = s.study();
+    let study = Study::new(
+        inner.seed,
+        inner.hold,
+        inner.draw,
+        inner.build,
+        |t: f64, _: &RigidBodyState<lie::GlamF64>, _: &ModeOutput<lie::GlamF64>| {
+            if t >= 0.5 {
+                flag.store(true, Ordering::Relaxed);
+            }
+            2.0
+        },
+    );
+    let got = study
+        .run_until_cancelled(&[0], Some(1), None, &flag)
+        .unwrap();
+    assert!(flag.load(Ordering::Relaxed));
+    assert!(got.is_empty(), "{} samples reported", got.len());
+}
+
+/// `uniform` is on [0, 1) with mean 1/2, and `in_ball` is uniform in its
+/// ball: inside radius r, (‖p‖/r)³ uniform on [0, 1] (Kolmogorov–Smirnov,
+/// critical 0.0138 at α = 0.001 for n = 20 000) and mean zero (each
+/// component within 4 standard errors, r/√(5n)).
+#[test]
+fn uniform_and_in_ball_follow_their_laws() {
+    let n = 20_000;
+    let mut rng = stream(11, 0);
+    let u: Vec<f64> = (0..n).map(|_| uniform(&mut rng)).collect();
+    assert!(u.iter().all(|x| (0.0..1.0).contains(x)));
+    let mean = u.iter().sum::<f64>() / n as f64;
+    let se = (1.0f64 / 12.0).sqrt() / (n as f64).sqrt();
+    assert!((mean - 0.5).abs() < 4.0 * se, "mean {mean}");
+    let r = 2.5;
+    let pts: Vec<[f64; 3]> = (0..n).map(|_| in_ball(&mut rng, r)).collect();
+    let radii: Vec<f64> = pts
+        .iter()
+        .map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt())
+        .collect();
+    assert!(radii.iter().all(|&q| q <= r), "a point outside the ball");
+    let d = ks(radii.iter().map(|q| (q / r).powi(3)).collect(), |x| x);
+    println!("in_ball: KS D = {d:.5}");
+    assert!(d < 1.949 / (n as f64).sqrt(), "D = {d}");
+    let se = r / (5.0 * n as f64).sqrt();
+    for k in 0..3 {
+        let m = pts.iter().map(|p| p[k]).sum::<f64>() / n as f64;
+        assert!(m.abs() < 4.0 * se, "mean of component {k}: {m}");
+    }
 }

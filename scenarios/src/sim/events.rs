@@ -144,10 +144,12 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
             break;
         }
         let rate = sys.load(l(tc), y).extra_rate[c.slot].to_f64_lossless();
-        if rate == 0.0 || !rate.is_finite() {
+        // A zero or non-finite rate gives no Newton step: keep the time.
+        let newton = g / rate;
+        if !newton.is_finite() {
             break;
         }
-        tc = (tc - g / rate).clamp(t, t + h);
+        tc = (tc - newton).clamp(t, t + h);
     }
     // Land the slot on ±level exactly and integrate the next step on the
     // far side's branch (stages a rounding error from the boundary would
