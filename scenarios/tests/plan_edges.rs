@@ -8,39 +8,26 @@
 //! depends on them).
 
 use controllers::{
-    AccelerationModel, AttitudeGains, ControlError, HoldPosition, Mode, ModeOutput, PositionGains,
-    PositionMode, PositionReference, RigidBodyParams, VehicleState,
+    AccelerationModel, AttitudeGains, HoldPosition, Mode, PositionGains, PositionMode,
+    PositionReference, RigidBodyParams,
 };
 use dynamics::{Multirotor, MultirotorParams, Quadrotor, RigidBodyState, Wind};
-use lie::{Backend, NalgebraF64, S, So3Mat};
+use lie::{Backend, NalgebraF64};
 use scenarios::{Control, Divergence, DivergenceGuard, RunOutput, Simulation, Until};
 
 type B = NalgebraF64;
 
-/// A mode that reports a fixed Ψ and commands no moment (the weight's
-/// thrust): its state does not matter to the conditions tested here.
-struct FixedPsi(f64);
+#[path = "common/idle.rs"]
+mod idle;
+use idle::Idle;
 
-impl Mode<B> for FixedPsi {
-    fn name(&self) -> &'static str {
-        "fixed-psi"
-    }
-    fn command(
-        &mut self,
-        _t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        _integrals: &[S<B>],
-        _rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
-        let z = B::vec3(0.0, 0.0, 0.0);
-        Ok(ModeOutput {
-            thrust: 0.0,
-            moment: z,
-            desired: state.r,
-            desired_omega: z,
-            psi: self.0,
-        })
-    }
+/// Reports a fixed Ψ and commands nothing: its state does not matter to
+/// the conditions tested here.
+fn fixed_psi(psi: f64) -> Box<dyn Mode<B>> {
+    Box::new(Idle {
+        psi,
+        speeds: Vec::new(),
+    })
 }
 
 fn fly(plan: Vec<(Box<dyn Mode<B>>, Until<'static, B>)>, duration: f64) -> RunOutput {
@@ -61,8 +48,8 @@ fn fly(plan: Vec<(Box<dyn Mode<B>>, Until<'static, B>)>, duration: f64) -> RunOu
 fn a_psi_condition_is_a_strict_inequality() {
     let plan = |theta: f64| -> Vec<(Box<dyn Mode<B>>, Until<'static, B>)> {
         vec![
-            (Box::new(FixedPsi(1.0)), Until::PsiBelow(theta)),
-            (Box::new(FixedPsi(1.0)), Until::Never),
+            (fixed_psi(1.0), Until::PsiBelow(theta)),
+            (fixed_psi(1.0), Until::Never),
         ]
     };
     let equal = fly(plan(1.0), 0.05);
@@ -223,7 +210,10 @@ fn the_lgvi_integrates_a_held_rotor_lag_by_the_trapezoidal_rule() {
     params.aero = false;
     let tau = params.tau_m;
     let vehicle = Multirotor::new(params).unwrap();
-    let replay = HeldSpeeds(vec![(0.0, w0), (0.01, wc)]);
+    let replay = Idle {
+        psi: 0.0,
+        speeds: vec![(0.0, vec![w0; 4]), (0.01, vec![wc; 4])],
+    };
     let out = Simulation::<B, 16>::builder(Box::new(vehicle))
         .mode(replay, Until::Never)
         .integrator({
@@ -252,40 +242,54 @@ fn the_lgvi_integrates_a_held_rotor_lag_by_the_trapezoidal_rule() {
     assert!(worst < 5e-11, "{worst:e}");
 }
 
-/// Rotor speeds held from each control instant: all four rotors alike.
-struct HeldSpeeds(Vec<(f64, f64)>);
-
-impl Mode<B> for HeldSpeeds {
-    fn name(&self) -> &'static str {
-        "held-speeds"
-    }
-    fn command(
-        &mut self,
-        _t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        _integrals: &[S<B>],
-        _rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
-        let z = B::vec3(0.0, 0.0, 0.0);
-        Ok(ModeOutput {
-            thrust: 0.0,
-            moment: z,
-            desired: state.r,
-            desired_omega: z,
-            psi: 0.0,
-        })
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn rotor_speeds(
-        &mut self,
-        t: S<B>,
-        _state: &VehicleState<B, So3Mat<B>>,
-        speeds: &mut [S<B>],
-    ) -> bool {
-        let k = self.0.partition_point(|(tk, _)| *tk <= t).saturating_sub(1);
-        speeds.fill(self.0[k].1);
-        true
+/// A condition is located by bisection on redone steps until the bracket
+/// is 1e-12 of the step or the time's own resolution ε·t, whichever is
+/// coarser: at h = 1 ms and t = 1.234 s that is 40 halvings (2⁴⁰ ≥ 1e12),
+/// at h = 0.1 ms 39 (the bracket reaches ε·1.234 = 2.7e-16 s first). Each
+/// halving redoes one RK4 step, four load evaluations; nothing else in the
+/// run differs from one that never switches (the condition holds on a
+/// grid point, so the steps after it are the same).
+#[test]
+fn a_condition_is_bisected_to_its_step_or_its_time_resolution() {
+    let t_switch = 1.234;
+    for h in [1e-3, 1e-4] {
+        let run = |until: Option<Until<'static, B>>| {
+            let mut b = Simulation::<B>::builder(Box::new(Quadrotor::<B>::paper()))
+                .dt(h)
+                .duration(1.5)
+                .record_every(0.01);
+            let last = Until::Never;
+            if let Some(u) = until {
+                b = b.segment(scenarios::Segment {
+                    mode: fixed_psi(0.0),
+                    until: u,
+                });
+            }
+            b.segment(scenarios::Segment {
+                mode: fixed_psi(0.0),
+                until: last,
+            })
+            .build()
+            .unwrap()
+            .run(Default::default())
+            .unwrap()
+        };
+        let located = run(Some(Until::Condition(Box::new(move |t, _, _| {
+            t >= t_switch
+        }))));
+        let plain = run(None);
+        let floor = (1e-12 * h).max(f64::EPSILON * t_switch);
+        let halvings = (0..).find(|k| h / 2f64.powi(*k) <= floor).unwrap() as u64;
+        println!(
+            "h = {h}: {halvings} halvings expected, {} extra evaluations",
+            located.evaluations - plain.evaluations
+        );
+        assert_eq!(located.switches.len(), 1);
+        assert_eq!(located.steps, plain.steps);
+        assert_eq!(
+            located.evaluations - plain.evaluations,
+            4 * halvings,
+            "h = {h}"
+        );
     }
 }

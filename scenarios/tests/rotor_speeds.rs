@@ -16,6 +16,10 @@ use scenarios::{Control, RunOutput, SimError, Simulation, Until};
 
 type B = NalgebraF64;
 
+#[path = "common/idle.rs"]
+mod idle;
+use idle::Idle;
+
 /// Recorded speed commands by control instant (`t` as bits, exact).
 type Log = Arc<Mutex<BTreeMap<u64, Vec<f64>>>>;
 
@@ -64,50 +68,6 @@ impl Mode<B> for Speeds {
         if let Ok(mut log) = self.log.lock() {
             log.insert(t.to_bits(), speeds.to_vec());
         }
-        true
-    }
-}
-
-/// A recorded speed sequence held from each control instant on: a
-/// controller-free, open-loop mode.
-struct Replay {
-    speeds: Vec<(f64, Vec<f64>)>,
-}
-
-impl Mode<B> for Replay {
-    fn name(&self) -> &'static str {
-        "replay"
-    }
-    fn command(
-        &mut self,
-        _t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        _integrals: &[S<B>],
-        _rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
-        let z = B::vec3(0.0, 0.0, 0.0);
-        Ok(ModeOutput {
-            thrust: 0.0,
-            moment: z,
-            desired: state.r,
-            desired_omega: z,
-            psi: 0.0,
-        })
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn rotor_speeds(
-        &mut self,
-        t: S<B>,
-        _state: &VehicleState<B, So3Mat<B>>,
-        speeds: &mut [S<B>],
-    ) -> bool {
-        let k = self
-            .speeds
-            .partition_point(|(tk, _)| *tk <= t)
-            .saturating_sub(1);
-        speeds.copy_from_slice(&self.speeds[k].1);
         true
     }
 }
@@ -205,7 +165,10 @@ fn a_recorded_speed_sequence_replays_open_loop() {
         .map(|(t, s)| (f64::from_bits(*t), s.clone()))
         .collect();
     assert!(recorded.len() >= 300, "{} control instants", recorded.len());
-    let replay = Replay { speeds: recorded };
+    let replay = Idle {
+        psi: 0.0,
+        speeds: recorded,
+    };
     let slot = Mutex::new(Some(replay));
     let open = fly(
         Box::new(crazyflie()),
@@ -214,7 +177,7 @@ fn a_recorded_speed_sequence_replays_open_loop() {
     )
     .expect("run");
     assert_same_flight(&closed, &open);
-    assert!(open.samples.iter().all(|s| s.mode == "replay"));
+    assert!(open.samples.iter().all(|s| s.mode == "idle"));
 }
 
 #[test]

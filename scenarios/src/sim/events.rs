@@ -163,8 +163,10 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
 /// The first time in `(t, ts]` at which a condition (the active
 /// segment's, or the run's stop condition) holds, given that it holds at
 /// the end `ts = t + h` (state `y`) of the step `(t, ts, h, before, y)`:
-/// bisection on redone steps from `(t, before)` to 1e-12 h. Returns the
-/// time and the state there.
+/// bisection on redone steps from `(t, before)` to 1e-12 h, or to the
+/// time's own resolution ε·ts if that is coarser (40 halvings at most
+/// then; the cap of 64 only stops a bisection that cannot converge).
+/// Returns the time and the state there.
 #[allow(clippy::type_complexity)]
 pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
@@ -175,7 +177,10 @@ pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
     let l = S::<B>::lit;
     let (mut lo, mut hi) = (0.0, h);
     let mut y_hi = *y;
-    while hi - lo > 1e-12 * h.max(1e-300) && hi - lo > f64::EPSILON * ts {
+    for _ in 0..64 {
+        if hi - lo <= 1e-12 * h.max(1e-300) || hi - lo <= f64::EPSILON * ts {
+            break;
+        }
         let mid = 0.5 * (lo + hi);
         let mut ym = *before;
         stepper.reset();
