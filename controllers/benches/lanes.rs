@@ -11,6 +11,7 @@ use controllers::{
     PositionReference, RigidBodyParams, VehicleState, attitude_law, position_law,
 };
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use dynamics::paper;
 use lie::{
     Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real,
     SimdBackend, SimdReal, So3Mat, V3, lanes,
@@ -148,7 +149,7 @@ fn run<B: SimdBackend>(c: &mut Criterion, id: &str, s: Setup<B>) {
 
 fn scalar<S: Backend>(c: &mut Criterion) {
     let setup = Setup {
-        params: RigidBodyParams::paper(),
+        params: RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         gains: AttitudeGains::paper(),
         position_gains: PositionGains::paper(),
         batch: (0..BATCH).map(vehicle::<S>).collect(),
@@ -162,7 +163,11 @@ where
     L: SimdBackend<Scalar: SimdReal<Element = S::Scalar>>,
 {
     let setup = Setup {
-        params: RigidBodyParams::splat(&RigidBodyParams::<S>::paper()),
+        params: RigidBodyParams::splat(&RigidBodyParams::<S>::diagonal(
+            paper::MASS,
+            paper::INERTIA,
+            paper::GRAVITY,
+        )),
         gains: AttitudeGains::splat(&AttitudeGains::<S>::paper()),
         position_gains: PositionGains::splat(&PositionGains::<S>::paper()),
         batch: packed::<S, L>(),

@@ -59,7 +59,7 @@ fn case<B: Backend>() -> Case<B> {
 
 fn generic<B: Backend>(c: &mut Criterion, pair: &str) {
     let k = case::<B>();
-    let p = RigidBodyParams::<B>::paper();
+    let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
     c.benchmark_group("position").bench_function(pair, |b| {
         b.iter(|| {
@@ -99,6 +99,7 @@ fn generic<B: Backend>(c: &mut Criterion, pair: &str) {
 
 #[path = "common/hand.rs"]
 mod hand_twin;
+use dynamics::paper;
 use hand_twin::{hand32, hand64};
 
 fn hand_benches(c: &mut Criterion) {
@@ -116,7 +117,7 @@ fn hand_benches(c: &mut Criterion) {
                 b1d: [k.pref.b1d, k.pref.b1d_dot, k.pref.b1d_ddot],
             };
             // The twin computes what the generic law does.
-            let p = RigidBodyParams::<$b>::paper();
+            let p = RigidBodyParams::<$b>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
             let g = position_control(
                 &p,
                 &PositionGains::paper(),

@@ -185,6 +185,7 @@ pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dynamics::paper;
     use lie::{GlamF32, NalgebraF64, So3Mat};
 
     /// A NaN or ±∞ in any component of any input is reported naming it,
@@ -192,7 +193,7 @@ mod tests {
     #[test]
     fn non_finite_inputs_are_named_and_the_law_is_unchanged() {
         type B = GlamF32;
-        let p = RigidBodyParams::<B>::paper();
+        let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let g = AttitudeGains::<B>::paper();
         let v = |x: f32, y: f32, z: f32| glam::Vec3::new(x, y, z);
         let r0 = So3Mat::<B>::exp(v(0.1, -0.2, 0.3));
@@ -236,7 +237,7 @@ mod tests {
         // with products of inertia (the full matrix).
         type D = NalgebraF64;
         let g = AttitudeGains::<D>::paper();
-        let diagonal = RigidBodyParams::<D>::paper();
+        let diagonal = RigidBodyParams::<D>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let mut full = diagonal;
         full.inertia = lie::ops::from_elems::<D>([
             [0.43e-2, 1e-4, -2e-4],

@@ -35,7 +35,8 @@
 //! use lie::{Backend, NalgebraF64, Rotation, So3Mat};
 //! type B = NalgebraF64;
 //!
-//! let params = RigidBodyParams::<B>::paper();
+//! // The paper's quadrotor: m = 0.755 kg, J = diag(0.43, 0.43, 1.02)·10⁻² kg m², g = 9.81 m/s².
+//! let params = RigidBodyParams::<B>::diagonal(0.755, [0.43e-2, 0.43e-2, 1.02e-2], 9.81);
 //! let target = HoldPosition(PositionReference::hold(B::vec3(0.0, 0.0, -1.0), B::vec3(1.0, 0.0, 0.0)));
 //! let mut law = PositionMode::new(
 //!     params,
@@ -96,20 +97,23 @@ pub struct RigidBodyParams<B: lie::SimdBackend> {
 }
 
 impl<B: Backend> RigidBodyParams<B> {
-    /// The quadrotor of the paper's numerical example (Section V):
-    /// `J = diag(0.43, 0.43, 1.02)·10⁻² kg m²`, `m = 0.755 kg`, `g = 9.81`.
-    pub fn paper() -> Self {
+    /// A body whose principal axes are its body axes: mass `m` (kg),
+    /// `J = diag(j1, j2, j3)` (kg m²), gravity `g` (m/s², along `+e3`).
+    /// The paper's example is
+    /// `diagonal(dynamics::paper::MASS, dynamics::paper::INERTIA, dynamics::paper::GRAVITY)`:
+    /// the vehicle's numbers are the plant's, kept in `dynamics`.
+    pub fn diagonal(mass: f64, inertia: [f64; 3], gravity: f64) -> Self {
         let s = S::<B>::lit;
         let z = s(0.0);
-        let [j1, j2, j3] = paper::INERTIA;
+        let [j1, j2, j3] = inertia;
         Self {
-            mass: s(paper::MASS),
+            mass: s(mass),
             inertia: B::mat3_from_cols(
                 B::vec3(s(j1), z, z),
                 B::vec3(z, s(j2), z),
                 B::vec3(z, z, s(j3)),
             ),
-            gravity: s(paper::GRAVITY),
+            gravity: s(gravity),
         }
     }
 }

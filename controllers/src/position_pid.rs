@@ -895,6 +895,7 @@ fn check_inputs<B: Backend, R: Rotation<B>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dynamics::paper;
     use lie::{GlamF32, NalgebraF64, So3Mat};
 
     type B = NalgebraF64;
@@ -952,7 +953,7 @@ mod tests {
     #[test]
     fn projected_formulas_equal_the_full_products() {
         let mut rng = Rng(0x9e3779b97f4a7c15);
-        let p = RigidBodyParams::<B>::paper();
+        let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let ag = AttitudeGains::<B>::paper();
         let mut worst = 0.0f64;
         for k in 0..2000 {
@@ -1026,7 +1027,7 @@ mod tests {
     /// the reference with zero integrals.
     #[test]
     fn the_thrust_direction_guard_switches_at_root_epsilon_m_g() {
-        let p = RigidBodyParams::<B>::paper();
+        let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
         let z = B::vec3(0.0, 0.0, 0.0);
         let st = VehicleState {
@@ -1063,7 +1064,7 @@ mod tests {
     /// is `e3`, so `b1d = (δ, 0, 1)` puts `‖b3c × b1d‖` at `δ`.
     #[test]
     fn the_heading_guard_switches_at_root_epsilon_times_one_plus_b1d() {
-        let p = RigidBodyParams::<B>::paper();
+        let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
         let z = B::vec3(0.0, 0.0, 0.0);
         let st = VehicleState {
@@ -1097,7 +1098,7 @@ mod tests {
 
     #[test]
     fn degenerate_cases_equal_the_first_implementation() {
-        let p = RigidBodyParams::<B>::paper();
+        let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
         let st = VehicleState {
             x: B::vec3(0.0, 0.0, 0.0),
@@ -1151,7 +1152,7 @@ mod tests {
     /// both fallbacks (where derivatives are replaced and could drop it).
     #[test]
     fn every_non_finite_input_is_named() {
-        let p = RigidBodyParams::<GlamF32>::paper();
+        let p = RigidBodyParams::<GlamF32>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
         let (pg, ag) = (
             PositionGains::<GlamF32>::paper(),
             AttitudeGains::<GlamF32>::paper(),

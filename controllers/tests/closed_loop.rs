@@ -10,6 +10,7 @@
 //! `integrators` crate.
 
 use controllers::*;
+use dynamics::paper;
 use lie::{NalgebraF64 as B, Rotation, So3Mat};
 use nalgebra::{Matrix3, Vector3};
 
@@ -88,7 +89,7 @@ fn paper_delta_x() -> V {
 
 /// Attitude mode with a constant R_d, Ω_d = 0.
 fn run_attitude(r0: R, rd: R, gains: AttitudeGains<B>, dr: V, t_end: f64, h: f64) -> (X, Vec<f64>) {
-    let p = RigidBodyParams::<B>::paper();
+    let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let reference = AttitudeReference {
         rd,
         omega_d: V::zeros(),
@@ -268,7 +269,7 @@ fn paper_hold(_t: f64) -> PositionReference<B> {
 #[test]
 fn position_integral_converges_to_disturbance_over_k_i() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
@@ -307,7 +308,7 @@ fn position_integral_converges_to_disturbance_over_k_i() {
 #[test]
 fn bare_nominal_model_biases_the_equilibrium_under_delta_x() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
@@ -340,7 +341,7 @@ fn bare_nominal_model_biases_the_equilibrium_under_delta_x() {
 #[test]
 fn computed_attitude_derivatives_match_finite_differences() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
@@ -434,7 +435,7 @@ fn computed_attitude_derivatives_match_finite_differences() {
 #[test]
 fn a_vanishing_thrust_direction_falls_back_to_the_body_axis() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
@@ -467,7 +468,7 @@ fn a_vanishing_thrust_direction_falls_back_to_the_body_axis() {
 #[test]
 fn b1d_parallel_to_b3c_holds_the_current_heading() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
@@ -505,7 +506,7 @@ fn b1d_parallel_to_b3c_holds_the_current_heading() {
 #[test]
 fn non_finite_inputs_are_errors_naming_the_field() {
     let (p, pg, ag) = (
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );

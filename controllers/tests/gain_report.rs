@@ -3,6 +3,7 @@
 //! failed assertion still fails the run).
 
 use controllers::*;
+use dynamics::paper;
 use lie::NalgebraF64 as B;
 
 /// The gain checker on the paper's gains. Expected values computed
@@ -16,7 +17,7 @@ fn main() {
 /// The paper's gains against its conditions: which hold, by how much.
 fn paper_gains_report() {
     let report = check_gains(
-        &RigidBodyParams::<B>::paper(),
+        &RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &PositionGains::<B>::paper(),
         &AttitudeGains::<B>::paper(),
         &GainBounds {

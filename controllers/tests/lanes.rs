@@ -9,6 +9,7 @@
 use controllers::{
     AttitudeGains, AttitudeOutput, AttitudeReference, RigidBodyParams, attitude_law,
 };
+use dynamics::paper;
 use lie::{
     AttitudeErrors, Backend, NalgebraF32, NalgebraF32x8, NalgebraF64, NalgebraF64x4, Real,
     SimdBackend, SimdReal, So3Mat, So3Quat,
@@ -81,7 +82,7 @@ where
         omega_d_dot: s(c.omega_d_dot),
     };
     let out = attitude_law(
-        &RigidBodyParams::<B>::paper(),
+        &RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &AttitudeGains::<B>::paper(),
         mk(s(c.r)),
         s(c.omega),
@@ -102,7 +103,11 @@ macro_rules! compare {
         type L = $l;
         let n = <<L as SimdBackend>::Scalar as SimdReal>::LANES;
         let lit = |x: f64| <S as SimdBackend>::Scalar::lit(x);
-        let params = RigidBodyParams::<L>::splat(&RigidBodyParams::<S>::paper());
+        let params = RigidBodyParams::<L>::splat(&RigidBodyParams::<S>::diagonal(
+            paper::MASS,
+            paper::INERTIA,
+            paper::GRAVITY,
+        ));
         let gains = AttitudeGains::<L>::splat(&AttitudeGains::<S>::paper());
         let mut worst = 0u64;
         for chunk in cases(64 * n).chunks(n) {
@@ -293,7 +298,7 @@ macro_rules! compare_position {
         let (pg, ag, pp) = (
             PositionGains::<S>::paper(),
             AttitudeGains::<S>::paper(),
-            RigidBodyParams::<S>::paper(),
+            RigidBodyParams::<S>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         );
         let params = RigidBodyParams::<L>::splat(&pp);
         let pgl = PositionGains::<L>::splat(&pg);

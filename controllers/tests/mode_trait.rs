@@ -4,6 +4,7 @@
 //! the position law.
 
 use controllers::*;
+use dynamics::paper;
 use lie::{NalgebraF64 as B, S, So3Mat};
 use nalgebra::Vector3;
 
@@ -142,7 +143,7 @@ fn a_borrowed_mode_answers_as_the_mode() {
 
 fn position_mode() -> PositionMode<B, HoldPosition<B>> {
     PositionMode::new(
-        RigidBodyParams::paper(),
+        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
@@ -156,7 +157,7 @@ fn position_mode() -> PositionMode<B, HoldPosition<B>> {
 #[test]
 fn the_papers_modes_declare_their_register_and_obey_forced_branches() {
     let att = AttitudeMode::<B, _, HoldPosition<B>>::new(
-        RigidBodyParams::paper(),
+        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         AttitudeGains::paper(),
         |_t: f64| AttitudeReference {
             rd: R::identity(),

@@ -2,6 +2,7 @@
 //! clamped anti-windup option.
 
 use controllers::*;
+use dynamics::paper;
 use lie::{GlamF32, NalgebraF64, So3Mat};
 
 /// One position-mode evaluation at a generic state in glam-f32 against
@@ -34,7 +35,7 @@ fn f32_glam_matches_f64_nalgebra() {
     let r32 = PositionReference::<GlamF32>::hold(v32([0.0; 3]), v32([0.0, 1.0, 0.0]));
     let r64 = PositionReference::<NalgebraF64>::hold(v64([0.0; 3]), v64([0.0, 1.0, 0.0]));
     let o32 = position_control(
-        &RigidBodyParams::paper(),
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &PositionGains::paper(),
         &AttitudeGains::paper(),
         &PositionInput {
@@ -47,7 +48,7 @@ fn f32_glam_matches_f64_nalgebra() {
     )
     .unwrap();
     let o64 = position_control(
-        &RigidBodyParams::paper(),
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &PositionGains::paper(),
         &AttitudeGains::paper(),
         &PositionInput {
@@ -91,7 +92,7 @@ fn clamped_integral_stops_at_sigma() {
     let reference = PositionReference::<B>::hold(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0));
     let e_i = v(1.0, 1.0, 0.2);
     let out = position_control(
-        &RigidBodyParams::paper(),
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &gains,
         &AttitudeGains::paper(),
         &PositionInput {
@@ -110,7 +111,7 @@ fn clamped_integral_stops_at_sigma() {
     );
     gains.clamp_integral = false;
     let free = position_control(
-        &RigidBodyParams::paper(),
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         &gains,
         &AttitudeGains::paper(),
         &PositionInput {

@@ -5,6 +5,7 @@
 //! thresholds, what `enter` zeroes), which no backend arithmetic touches.
 
 use controllers::*;
+use dynamics::paper;
 use lie::{NalgebraF64 as B, So3Mat};
 use nalgebra::Vector3;
 
@@ -29,7 +30,7 @@ fn hold() -> HoldPosition<B> {
 
 fn position_mode() -> PositionMode<B, HoldPosition<B>> {
     PositionMode::new(
-        RigidBodyParams::paper(),
+        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
@@ -48,7 +49,7 @@ fn state(r: R) -> VehicleState<B, R> {
 
 #[test]
 fn time_switch_carries_e_att_and_resets_e_pos() {
-    let p = RigidBodyParams::<B>::paper();
+    let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let mut att = AttitudeMode::new(
         p,
         AttitudeGains::paper(),
@@ -108,7 +109,7 @@ fn time_switch_carries_e_att_and_resets_e_pos() {
 
 #[test]
 fn psi_switch_waits_for_the_attitude_error() {
-    let p = RigidBodyParams::<B>::paper();
+    let p = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let mut att = AttitudeMode::<B, _, HoldPosition<B>>::new(
         p,
         AttitudeGains::paper(),
@@ -177,14 +178,14 @@ fn the_papers_modes_command_wrenches_and_report_their_reference_position() {
         PositionReference::hold(x, V::y())
     };
     let pos = PositionMode::new(
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
         circle,
     );
     let att = AttitudeMode::new(
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         AttitudeGains::paper(),
         flip,
         AttitudeThrust::PdProjection {
@@ -204,7 +205,7 @@ fn the_papers_modes_command_wrenches_and_report_their_reference_position() {
     }
     assert_eq!(Mode::<B, R>::desired_position(&att, 1.0), Some([0.0; 3]));
     let constant = AttitudeMode::<B, _, HoldPosition<B>>::new(
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         AttitudeGains::paper(),
         flip,
         AttitudeThrust::Constant(7.4),

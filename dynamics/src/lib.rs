@@ -69,6 +69,7 @@ use lie::{Backend, M3, Real, S, V3, ops};
 
 pub mod free_body;
 pub mod multirotor;
+pub mod paper;
 mod vehicles;
 pub mod wind;
 

@@ -1,6 +1,6 @@
 //! The shipped vehicles.
 
-use controllers::paper;
+use crate::paper;
 use lie::num_traits::{Float, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 

@@ -13,6 +13,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
     VehicleState, position_control,
 };
+use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState, Vehicle, Wrench, loads};
 use integrators::{
     Dopri, EndLoad, Euler, Integrator, Lgvi, Load, Rk4, Rkmk4, State, System, integrate_fixed,
@@ -97,7 +98,7 @@ fn system() -> ClosedLoop {
         quad: Quadrotor::<B>::paper()
             .with_disturbance(Quadrotor::<B>::paper_disturbance())
             .unwrap(),
-        params: RigidBodyParams::paper(),
+        params: RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         pg: PositionGains::paper(),
         ag: AttitudeGains::paper(),
     }

@@ -176,15 +176,15 @@ fn params_of(d: Option<&Bound<'_, PyDict>>) -> PyResult<RigidBodyParams<B>> {
     let mass = get("mass")?
         .map(|v| v.extract())
         .transpose()?
-        .unwrap_or(controllers::paper::MASS);
+        .unwrap_or(dynamics::paper::MASS);
     let inertia: [f64; 3] = get("inertia")?
         .map(|v| v.extract())
         .transpose()?
-        .unwrap_or(controllers::paper::INERTIA);
+        .unwrap_or(dynamics::paper::INERTIA);
     let gravity = get("gravity")?
         .map(|v| v.extract())
         .transpose()?
-        .unwrap_or(controllers::paper::GRAVITY);
+        .unwrap_or(dynamics::paper::GRAVITY);
     params(mass, inertia, gravity)
 }
 

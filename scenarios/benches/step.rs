@@ -165,7 +165,7 @@ mod direct {
         AccelerationModel, AttitudeGains, HoldPosition, Mode, PositionGains, PositionMode,
         PositionReference, RigidBodyParams, VehicleState,
     };
-    use dynamics::{Hexarotor, Quadrotor, RigidBodyState, Vehicle, Wrench};
+    use dynamics::{Hexarotor, Quadrotor, RigidBodyState, Vehicle, Wrench, paper};
     use integrators::{Integrator, Load, Rk4, State, System};
     use lie::num_traits::Float;
     use lie::{Backend, M3, Real, S, So3Mat};
@@ -185,7 +185,7 @@ mod direct {
                 .expect("paper disturbance");
             let inertia_inv = lie::ops::inverse::<B>(vehicle.inertia()).expect("inertia");
             let mode = PositionMode::new(
-                RigidBodyParams::paper(),
+                RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
                 PositionGains::paper(),
                 AttitudeGains::paper(),
                 AccelerationModel::Nominal,

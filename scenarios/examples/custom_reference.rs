@@ -9,6 +9,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,
     RigidBodyParams,
 };
+use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState};
 use lie::{Backend, NalgebraF64};
 use scenarios::reference::derivative_mismatch;
@@ -49,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if m.iter().any(|e| *e > 1e-5) {
         return Err("the helix's derivatives are inconsistent".into());
     }
-    let params = RigidBodyParams::<B>::paper();
+    let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let mode = PositionMode::new(
         params,
         PositionGains::paper(),

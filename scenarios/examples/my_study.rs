@@ -9,6 +9,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, HoldPosition, PositionGains, PositionMode, PositionReference,
     RigidBodyParams,
 };
+use dynamics::paper;
 use dynamics::{Hexarotor, RigidBodyState};
 use lie::{Backend, GlamF64, Real, Rotation, So3Quat};
 use scenarios::montecarlo::{Study, Summary, in_ball, shoemake};
@@ -36,7 +37,8 @@ fn main() -> Result<(), SimError> {
         },
         |d: &Draw| {
             let hex = Hexarotor::<B>::paper();
-            let params = RigidBodyParams::<B>::paper();
+            let params =
+                RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
             let hover = PositionReference::hold(B::vec3(0.0, 0.0, 0.0), B::vec3(1.0, 0.0, 0.0));
             let mode = PositionMode::new(
                 params,

@@ -111,11 +111,15 @@ impl<L: SimdBackend> PositionLoop<L> {
         };
         let hold = PositionReference::<E>::hold(d([0.0; 3]), d([1.0, 0.0, 0.0]));
         let disturbance = Disturbance {
-            force: d(controllers::paper::DELTA_X),
-            moment: d(controllers::paper::DELTA_R),
+            force: d(dynamics::paper::DELTA_X),
+            moment: d(dynamics::paper::DELTA_R),
         };
         Self::splat(
-            &RigidBodyParams::<E>::paper(),
+            &RigidBodyParams::<E>::diagonal(
+                dynamics::paper::MASS,
+                dynamics::paper::INERTIA,
+                dynamics::paper::GRAVITY,
+            ),
             &PositionGains::<E>::paper(),
             &AttitudeGains::<E>::paper(),
             AccelerationModel::Nominal,

@@ -2,7 +2,8 @@
 
 use std::collections::BTreeMap;
 
-use controllers::paper;
+use controllers::paper as paper_gains;
+use dynamics::paper;
 use serde::{Deserialize, Serialize};
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are
@@ -476,7 +477,7 @@ pub struct GainsSpec {
 
 impl Default for GainsSpec {
     fn default() -> Self {
-        let (p, a) = (paper::POSITION_GAINS, paper::ATTITUDE_GAINS);
+        let (p, a) = (paper_gains::POSITION_GAINS, paper_gains::ATTITUDE_GAINS);
         Self {
             k_x: p.k_x,
             k_v: p.k_v,

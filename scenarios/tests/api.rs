@@ -12,6 +12,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,
     RigidBodyParams,
 };
+use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState, Vehicle};
 use lie::{Backend, NalgebraF64, Real};
 use scenarios::reference::{derivative_mismatch, position_f64};
@@ -40,7 +41,7 @@ fn a_closure_reference_flies_exactly_as_the_scene_reference() {
     let scene = builtin::figure_eight();
     let from_scene = scenarios::run(&scene, Default::default()).unwrap();
     let g = &scene.gains;
-    let params = RigidBodyParams::<B>::paper();
+    let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let mut pg = PositionGains::<B>::uniform(g.k_x, g.k_v, g.k_i, g.c1, g.sigma);
     pg.clamp_integral = g.clamp_integral;
     let ag = AttitudeGains::<B>::uniform(g.k_r, g.k_omega, g.k_att_i, g.c2);
@@ -139,7 +140,7 @@ fn bad_settings_name_the_field_and_value() {
     assert!(e.contains("`control`") && e.contains("0 Hz"), "{e}");
     // A Ψ switch on the last segment has nothing to switch to.
     let m = PositionMode::new(
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
@@ -218,7 +219,7 @@ fn scene_files_name_registered_kinds_only() {
 #[test]
 fn a_stop_condition_ends_the_run_at_the_located_instant() {
     // Climb from 1 m to a 2 m hover; stop when 1.5 m is first reached.
-    let params = RigidBodyParams::<B>::paper();
+    let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let hold = controllers::HoldPosition(PositionReference::hold(
         B::vec3(0.0, 0.0, -2.0),
         B::vec3(1.0, 0.0, 0.0),

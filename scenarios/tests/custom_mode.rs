@@ -13,6 +13,7 @@ use controllers::{
     RigidBodyParams,
 };
 use dynamics::Quadrotor;
+use dynamics::paper;
 use landing::Landing;
 use lie::{Backend, NalgebraF64};
 use scenarios::{RunOutput, Simulation, Until};
@@ -20,7 +21,7 @@ use scenarios::{RunOutput, Simulation, Until};
 type B = NalgebraF64;
 
 fn hover_then_land(until: Until<'static, B>, duration: f64) -> RunOutput {
-    let params = RigidBodyParams::<B>::paper();
+    let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
     let hold = HoldPosition(PositionReference::hold(
         B::vec3(0.0, 0.0, -2.0),

@@ -19,6 +19,7 @@ type B = NalgebraF64;
 
 #[path = "common/idle.rs"]
 mod idle;
+use dynamics::paper;
 use idle::Idle;
 
 /// Reports a fixed Ψ and commands nothing: its state does not matter to
@@ -66,7 +67,7 @@ fn a_psi_condition_is_a_strict_inequality() {
 fn a_last_segment_ending_at_a_time_runs_on() {
     let hover = || -> Box<dyn Mode<B>> {
         Box::new(PositionMode::new(
-            RigidBodyParams::<B>::paper(),
+            RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
             PositionGains::paper(),
             AttitudeGains::paper(),
             AccelerationModel::Nominal,
@@ -114,7 +115,7 @@ fn flat(s: &scenarios::Sample) -> Vec<f64> {
 fn the_guard_measures_the_distance_to_the_desired_position() {
     let run = |limit: f64| {
         let mode = PositionMode::new(
-            RigidBodyParams::<B>::paper(),
+            RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
             PositionGains::paper(),
             AttitudeGains::paper(),
             AccelerationModel::Nominal,
@@ -244,21 +245,21 @@ fn the_lgvi_integrates_a_held_rotor_lag_by_the_trapezoidal_rule() {
 
 /// A condition is located by bisection on redone steps until the bracket
 /// is 1e-12 of the step or the time's own resolution ε·t, whichever is
-/// coarser: at h = 1 ms and t = 1.234 s that is 40 halvings (2⁴⁰ ≥ 1e12),
-/// at h = 0.1 ms 39 (the bracket reaches ε·1.234 = 2.7e-16 s first). Each
-/// halving redoes one RK4 step, four load evaluations; nothing else in the
-/// run differs from one that never switches (the condition holds on a
-/// grid point, so the steps after it are the same).
+/// coarser: at h = 1 ms and t = 1.2345 s that is 40 halvings (2⁴⁰ ≥ 1e12),
+/// at h = 0.1 ms 39 (the bracket reaches ε·1.2345 = 2.7e-16 s first). Each
+/// halving redoes one RK4 step, four load evaluations, on top of four per
+/// step taken. The condition is read at the time of the redone step's end:
+/// a predicate of time is located to that resolution, not at the step's
+/// end (1.235 s).
 #[test]
 fn a_condition_is_bisected_to_its_step_or_its_time_resolution() {
-    let t_switch = 1.234;
+    let t_switch = 1.2345;
     for h in [1e-3, 1e-4] {
         let run = |until: Option<Until<'static, B>>| {
             let mut b = Simulation::<B>::builder(Box::new(Quadrotor::<B>::paper()))
                 .dt(h)
                 .duration(1.5)
                 .record_every(0.01);
-            let last = Until::Never;
             if let Some(u) = until {
                 b = b.segment(scenarios::Segment {
                     mode: fixed_psi(0.0),
@@ -267,7 +268,7 @@ fn a_condition_is_bisected_to_its_step_or_its_time_resolution() {
             }
             b.segment(scenarios::Segment {
                 mode: fixed_psi(0.0),
-                until: last,
+                until: Until::Never,
             })
             .build()
             .unwrap()
@@ -280,16 +281,15 @@ fn a_condition_is_bisected_to_its_step_or_its_time_resolution() {
         let plain = run(None);
         let floor = (1e-12 * h).max(f64::EPSILON * t_switch);
         let halvings = (0..).find(|k| h / 2f64.powi(*k) <= floor).unwrap() as u64;
-        println!(
-            "h = {h}: {halvings} halvings expected, {} extra evaluations",
-            located.evaluations - plain.evaluations
-        );
+        let extra = located.evaluations - 4 * located.steps;
+        println!("h = {h}: {halvings} halvings expected, {extra} evaluations beyond the steps'");
+        assert_eq!(plain.evaluations, 4 * plain.steps, "RK4: four per step");
+        assert_eq!(extra, 4 * halvings, "h = {h}");
         assert_eq!(located.switches.len(), 1);
-        assert_eq!(located.steps, plain.steps);
-        assert_eq!(
-            located.evaluations - plain.evaluations,
-            4 * halvings,
-            "h = {h}"
+        let tc = located.switches[0].t;
+        assert!(
+            (tc - t_switch).abs() <= 2.0 * floor,
+            "located at {tc}, h = {h}"
         );
     }
 }

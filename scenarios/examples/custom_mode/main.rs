@@ -12,6 +12,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, HoldPosition, PositionGains, PositionMode, PositionReference,
     RigidBodyParams,
 };
+use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState};
 use landing::Landing;
 use lie::{Backend, GlamF64};
@@ -20,7 +21,7 @@ use scenarios::{Simulation, Until};
 type B = GlamF64;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let params = RigidBodyParams::<B>::paper();
+    let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     let (pg, ag) = (PositionGains::<B>::paper(), AttitudeGains::<B>::paper());
     let hover_at = [0.0, 0.0, -2.0];
     let hold = HoldPosition(PositionReference::hold(

@@ -26,7 +26,7 @@
 //! commanded), settled when Ψ < 10⁻³ for 0.2 s:
 //! ```
 //! use controllers::{AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams};
-//! use dynamics::{Hexarotor, RigidBodyState};
+//! use dynamics::{Hexarotor, RigidBodyState, paper};
 //! use lie::{Backend, GlamF64, Real, Rotation, So3Mat};
 //! use scenarios::montecarlo::{Status, Study, Summary, shoemake};
 //! use scenarios::{Simulation, Until};
@@ -38,7 +38,7 @@
 //!     |rng| shoemake(rng),
 //!     |q: &[f64; 4]| {
 //!         let hex = Hexarotor::<B>::paper();
-//!         let params = RigidBodyParams::<B>::paper();
+//!         let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
 //!         let mode = AttitudeMode::<B, _, HoldPosition<B>>::new(
 //!             params,
 //!             AttitudeGains::paper(),

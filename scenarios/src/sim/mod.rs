@@ -613,14 +613,14 @@ pub enum Control {
 ///
 /// ```
 /// use controllers::{AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams};
-/// use dynamics::{Quadrotor, RigidBodyState, Vehicle};
+/// use dynamics::{Quadrotor, RigidBodyState, Vehicle, paper};
 /// use lie::{NalgebraF64, Rotation, So3Mat, Backend};
 /// use scenarios::{Segment, Simulation, Until};
 /// type B = NalgebraF64;
 ///
 /// // The paper's quadrotor on a pivot would be `AttitudeStand`; here it flies.
 /// let quad = Quadrotor::<B>::paper();
-/// let params = RigidBodyParams::<B>::paper();
+/// let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
 /// // Hold R_d = I with the paper's k_R, k_Ω (no integral term: no
 /// // disturbance here) and hover thrust.
 /// let gains = AttitudeGains::uniform(0.65, 0.11, 0.0, 0.8);
@@ -756,12 +756,12 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
     ///
     /// ```
     /// use controllers::{AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams};
-    /// use dynamics::{Quadrotor, Vehicle};
+    /// use dynamics::{Quadrotor, Vehicle, paper};
     /// use lie::{Backend, NalgebraF64, Rotation, So3Mat};
     /// use scenarios::{Simulation, Until};
     /// type B = NalgebraF64;
     ///
-    /// let params = RigidBodyParams::<B>::paper();
+    /// let params = RigidBodyParams::<B>::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY);
     /// let mode = AttitudeMode::<B, _, HoldPosition<B>>::new(
     ///     params,
     ///     AttitudeGains::uniform(0.65, 0.11, 0.0, 0.8),

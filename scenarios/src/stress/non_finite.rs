@@ -26,7 +26,11 @@ pub(super) fn non_finite(r: &mut Report<'_>, _quick: bool, dir: &Path) -> Result
         }
     };
     let mode = PositionMode::new(
-        RigidBodyParams::<B>::paper(),
+        RigidBodyParams::<B>::diagonal(
+            dynamics::paper::MASS,
+            dynamics::paper::INERTIA,
+            dynamics::paper::GRAVITY,
+        ),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
