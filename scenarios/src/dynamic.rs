@@ -8,7 +8,7 @@ use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation};
 use crate::from_scene::{PositionFn, builder_from};
 use crate::reference::{m, v};
 use crate::scene::{BackendKind, Scalar, Scene};
-use crate::sim::record::{f3, fm};
+use crate::sim::closed_loop::{f3, fm};
 use crate::{DivergenceGuard, Registry, RunOptions, RunOutput, SimError, Simulation, Termination};
 
 /// A simulation's state in f64, whatever the scalar it runs in.

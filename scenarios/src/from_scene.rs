@@ -13,15 +13,14 @@ use controllers::{
     RigidBodyParams,
 };
 use dynamics::{
-    AttitudeStand, Disturbance, FreeRigidBody, Hexarotor, Multirotor, MultirotorParams, Quadrotor,
-    Vehicle,
+    AttitudeStand, Disturbance, FreeRigidBody, Hexarotor, Multirotor, Quadrotor, Vehicle,
 };
 use integrators::{Stepper, StepperConfig};
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S, So3Mat, ops};
 
 use crate::reference::{self, m, v};
 use crate::scene::{
-    AccelModel, AttitudeRef, BackendKind, PositionRef, Preset, Scalar, Scene, ThrustSpec, Timing,
+    AccelModel, AttitudeRef, BackendKind, PositionRef, Scalar, Scene, ThrustSpec, Timing,
     VehicleKind,
 };
 use crate::sim::{
@@ -424,55 +423,6 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
     Ok(b.warnings(warning))
 }
 
-/// The parameters of a `multirotor` scene's vehicle: the preset, the
-/// airframe (mass, inertia, gravity, four rotors in the X layout at `arm`)
-/// from the vehicle table, then the table's overrides. Not validated here
-/// ([`dynamics::Multirotor::new`] does that).
-pub(crate) fn multirotor_params<B: Backend>(scene: &Scene) -> MultirotorParams<B> {
-    let l = S::<B>::lit;
-    let ve = &scene.vehicle;
-    let spec = ve.multirotor.clone().unwrap_or_default();
-    let mut p = match spec.preset {
-        Preset::Crazyflie => MultirotorParams::<B>::crazyflie(),
-        Preset::Hummingbird => MultirotorParams::<B>::hummingbird(),
-    };
-    p.mass = l(ve.mass);
-    p.inertia = ops::diag::<B>(l(ve.inertia[0]), l(ve.inertia[1]), l(ve.inertia[2]));
-    p.gravity = l(ve.gravity);
-    p.rotors = match (&spec.rotor_positions, &spec.rotor_directions) {
-        (Some(pos), Some(dir)) => pos
-            .iter()
-            .zip(dir)
-            .map(|(r, d)| dynamics::Rotor {
-                position: v::<B>(*r),
-                direction: l(*d),
-            })
-            .collect(),
-        _ => MultirotorParams::<B>::x_layout(l(ve.arm)),
-    };
-    let set = |field: &mut S<B>, v: Option<f64>| {
-        if let Some(v) = v {
-            *field = l(v);
-        }
-    };
-    set(&mut p.k_eta, spec.k_eta);
-    set(&mut p.k_m, spec.k_m);
-    set(&mut p.k_d, spec.k_d);
-    set(&mut p.k_z, spec.k_z);
-    set(&mut p.k_h, spec.k_h);
-    set(&mut p.k_flap, spec.k_flap);
-    set(&mut p.tau_m, spec.tau_m);
-    set(&mut p.rotor_speed_min, spec.rotor_speed_min);
-    set(&mut p.rotor_speed_max, spec.rotor_speed_max);
-    let [mut cx, mut cy, mut cz] = B::vec3_to_array(p.c_d);
-    set(&mut cx, spec.c_dx);
-    set(&mut cy, spec.c_dy);
-    set(&mut cz, spec.c_dz);
-    p.c_d = B::vec3(cx, cy, cz);
-    p.aero = spec.aero.unwrap_or(p.aero);
-    p
-}
-
 /// The controller's view of the vehicle and the scene's gains.
 pub(crate) fn gains<B: Backend>(
     scene: &Scene,
@@ -631,7 +581,8 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
             Box::new(hex)
         }
         VehicleKind::Multirotor => {
-            let mut multi = Multirotor::new(multirotor_params::<B>(scene)).map_err(err)?;
+            let mut multi =
+                Multirotor::new(crate::scene::multirotor_params::<B>(scene)).map_err(err)?;
             if let Some(d) = quad.fixed_disturbance() {
                 multi = multi.with_disturbance(d);
             }

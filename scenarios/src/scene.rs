@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use controllers::paper as paper_gains;
-use dynamics::paper;
+use dynamics::{MultirotorParams, paper};
 use serde::{Deserialize, Serialize};
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are
@@ -900,7 +900,7 @@ impl Scene {
                 _ => {}
             }
         }
-        let p = crate::from_scene::multirotor_params::<lie::NalgebraF64>(self);
+        let p = multirotor_params::<lie::NalgebraF64>(self);
         let lift = p.rotors.len() as f64 * p.k_eta * p.rotor_speed_max * p.rotor_speed_max;
         if let Err(e) = dynamics::Multirotor::new(p) {
             return Err((key, format!("`[vehicle.multirotor]`: {e}")));
@@ -1319,4 +1319,54 @@ fn locate_key(text: &str, key: &str) -> Option<(usize, usize)> {
         }
     }
     None
+}
+
+/// The parameters of a `multirotor` scene's vehicle: the preset, the
+/// airframe (mass, inertia, gravity, four rotors in the X layout at `arm`)
+/// from the vehicle table, then the table's overrides. Not validated here
+/// ([`dynamics::Multirotor::new`] does that).
+pub(crate) fn multirotor_params<B: lie::Backend>(scene: &Scene) -> MultirotorParams<B> {
+    use lie::Real;
+    let l = lie::S::<B>::lit;
+    let ve = &scene.vehicle;
+    let spec = ve.multirotor.clone().unwrap_or_default();
+    let mut p = match spec.preset {
+        Preset::Crazyflie => MultirotorParams::<B>::crazyflie(),
+        Preset::Hummingbird => MultirotorParams::<B>::hummingbird(),
+    };
+    p.mass = l(ve.mass);
+    p.inertia = lie::ops::diag::<B>(l(ve.inertia[0]), l(ve.inertia[1]), l(ve.inertia[2]));
+    p.gravity = l(ve.gravity);
+    p.rotors = match (&spec.rotor_positions, &spec.rotor_directions) {
+        (Some(pos), Some(dir)) => pos
+            .iter()
+            .zip(dir)
+            .map(|(r, d)| dynamics::Rotor {
+                position: B::vec3(l(r[0]), l(r[1]), l(r[2])),
+                direction: l(*d),
+            })
+            .collect(),
+        _ => MultirotorParams::<B>::x_layout(l(ve.arm)),
+    };
+    let set = |field: &mut lie::S<B>, v: Option<f64>| {
+        if let Some(v) = v {
+            *field = l(v);
+        }
+    };
+    set(&mut p.k_eta, spec.k_eta);
+    set(&mut p.k_m, spec.k_m);
+    set(&mut p.k_d, spec.k_d);
+    set(&mut p.k_z, spec.k_z);
+    set(&mut p.k_h, spec.k_h);
+    set(&mut p.k_flap, spec.k_flap);
+    set(&mut p.tau_m, spec.tau_m);
+    set(&mut p.rotor_speed_min, spec.rotor_speed_min);
+    set(&mut p.rotor_speed_max, spec.rotor_speed_max);
+    let [mut cx, mut cy, mut cz] = B::vec3_to_array(p.c_d);
+    set(&mut cx, spec.c_dx);
+    set(&mut cy, spec.c_dy);
+    set(&mut cz, spec.c_dz);
+    p.c_d = B::vec3(cx, cy, cz);
+    p.aero = spec.aero.unwrap_or(p.aero);
+    p
 }

@@ -6,9 +6,8 @@ use controllers::{ControlError, ModeOutput, VehicleState};
 use dynamics::{RotorSpeedInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
-use lie::{Backend, Real, S, So3Mat};
+use lie::{Backend, Real, S, So3Mat, V3};
 
-use super::record::f3;
 use super::{Segment, SwitchRecord, Until};
 use dynamics::multirotor::MAX_ROTORS;
 
@@ -426,4 +425,14 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             extra_rate: rates,
         }
     }
+}
+
+/// A backend vector as f64 components (what samples and logs hold).
+pub(crate) fn f3<B: Backend>(x: V3<B>) -> [f64; 3] {
+    B::vec3_to_array(x).map(|c| c.to_f64_lossless())
+}
+
+/// A backend matrix as f64 rows.
+pub(crate) fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
+    lie::ops::elems::<B>(x).map(|r| r.map(|c| c.to_f64_lossless()))
 }

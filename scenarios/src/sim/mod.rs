@@ -19,7 +19,7 @@
 //! stay zero. A plan and vehicle that need more than `N` are a
 //! [`SimError::Layout`] naming both counts.
 
-mod closed_loop;
+pub(crate) mod closed_loop;
 mod events;
 mod report;
 pub use report::RunReport;

@@ -2,18 +2,10 @@
 
 use dynamics::Wrench;
 use integrators::State;
-use lie::{Backend, Real, Rotation, S, So3Mat, V3, ops};
+use lie::{Backend, Real, Rotation, S, So3Mat};
 
-use super::closed_loop::ClosedLoop;
+use super::closed_loop::{ClosedLoop, f3, fm};
 use super::{RunOutput, Sample, SimError};
-
-pub(crate) fn f3<B: Backend>(x: V3<B>) -> [f64; 3] {
-    B::vec3_to_array(x).map(|c| c.to_f64_lossless())
-}
-
-pub(crate) fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
-    ops::elems::<B>(x).map(|r| r.map(|c| c.to_f64_lossless()))
-}
 
 pub(crate) fn empty_sample() -> Sample {
     Sample {
