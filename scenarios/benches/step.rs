@@ -31,12 +31,6 @@ use std::hint::black_box;
 mod hand_twin;
 
 /// Largest |Δx| (m) and |ΔR| (matrix elements) between two final samples.
-fn final_error(a: &scenarios::Sample, b: &scenarios::Sample) -> f64 {
-    let dx = (0..3).map(|k| (a.x[k] - b.x[k]).abs());
-    let dr = (0..9).map(|k| (a.r[k / 3][k % 3] - b.r[k / 3][k % 3]).abs());
-    dx.chain(dr).fold(0.0, f64::max)
-}
-
 /// The loop alone: no samples, and no per-step extrema (one controller
 /// evaluation per step, which the hand-written twins do not do either).
 fn quiet(s: &Scene) {
@@ -326,13 +320,7 @@ fn bench_flip(c: &mut Criterion) {
     // a sample kept every 0.05 s, on every pair; its final-state error
     // against Dormand–Prince at 1e-12 in f64 is printed first (and must
     // stay at the 1.1e-8 the regression suite knows, to rounding).
-    let mut flip = builtin::paper_flip();
-    flip.integrator.kind = "rk4".into();
-    flip.integrator.dt = 1e-3;
-    flip.record.sample = 0.05;
-    let mut exact = flip.clone();
-    exact.integrator.kind = "dopri".into();
-    exact.integrator.tol = 1e-12;
+    let (flip, exact) = scenarios::metrics::flip_rk4_1ms();
     let truth = run(&exact, RunOptions::default()).expect("dopri run").last;
     let mut g = c.benchmark_group("flip-rk4-1ms");
     for (scalar, backend, name) in [
@@ -345,7 +333,7 @@ fn bench_flip(c: &mut Criterion) {
         s.scalar = scalar;
         s.backend = backend;
         let out = run(&s, RunOptions::default()).expect("flip run");
-        let err = final_error(&out.last, &truth);
+        let err = scenarios::metrics::final_state_error(&out.last, &truth);
         eprintln!(
             "paper-flip rk4 h = 1 ms, {name}: {} samples, final error {err:.2e} (vs dopri 1e-12 f64)",
             out.samples.len()

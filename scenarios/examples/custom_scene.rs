@@ -7,8 +7,7 @@
 
 use scenarios::output::write_csv;
 use scenarios::scene::{
-    BackendKind, DisturbanceSpec, ModeKind, PositionRef, Scalar, SegmentSpec, ThrustSpec, Timing,
-    VehicleKind,
+    BackendKind, DisturbanceSpec, PositionRef, Scalar, SegmentSpec, Timing, VehicleKind,
 };
 use scenarios::{RunOptions, builtin, run};
 
@@ -24,19 +23,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     scene.control.rate = 250.0;
     scene.integrator.kind = "rkmk4".into();
     scene.integrator.dt = 1e-3;
-    scene.plan = vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(PositionRef::FigureEight {
-            center: [0.0, 0.0, -1.0],
-            a: 1.5,
-            b: 0.75,
-            omega: 0.8,
-        }),
-        thrust: ThrustSpec::Hover,
-    }];
+    scene.plan = vec![SegmentSpec::position(PositionRef::FigureEight {
+        center: [0.0, 0.0, -1.0],
+        a: 1.5,
+        b: 0.75,
+        omega: 0.8,
+    })];
     // Bad values are caught before anything runs, naming the field.
     scene
         .validate()

@@ -12,6 +12,7 @@ use controllers::{
 use dynamics::paper;
 use dynamics::{Hexarotor, RigidBodyState};
 use lie::{Backend, GlamF64, Real, Rotation, So3Quat};
+use scenarios::metrics::norm;
 use scenarios::montecarlo::{Study, Summary, in_ball, shoemake};
 use scenarios::{DivergenceGuard, SimError, Simulation, Until};
 
@@ -21,10 +22,6 @@ type B = GlamF64;
 struct Draw {
     q: [f64; 4],
     omega: [f64; 3],
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 fn main() -> Result<(), SimError> {

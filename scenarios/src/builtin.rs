@@ -3,6 +3,7 @@
 use std::f64::consts::PI;
 
 use crate::scene::*;
+use dynamics::DrydenSpec;
 
 fn base(name: &str, description: &str, duration: f64) -> Scene {
     Scene {
@@ -25,14 +26,7 @@ fn base(name: &str, description: &str, duration: f64) -> Scene {
 
 /// One position-mode segment to the end of the run, hover thrust.
 fn position_plan(reference: PositionRef) -> Vec<SegmentSpec> {
-    vec![SegmentSpec {
-        mode: ModeKind::Position,
-        until: None,
-        until_psi: None,
-        attitude: None,
-        position: Some(reference),
-        thrust: ThrustSpec::Hover,
-    }]
+    vec![SegmentSpec::position(reference)]
 }
 
 fn hold(x: [f64; 3], b1d: [f64; 3]) -> PositionRef {
@@ -52,22 +46,10 @@ pub fn paper_flip() -> Scene {
     );
     s.disturbance = Some(DisturbanceSpec::paper());
     s.plan = vec![
-        SegmentSpec {
-            mode: ModeKind::Attitude,
-            until: Some(0.4),
-            until_psi: None,
-            attitude: Some(AttitudeRef::PaperFlip {}),
-            position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
-            thrust: ThrustSpec::PdProjection,
-        },
-        SegmentSpec {
-            mode: ModeKind::Position,
-            until: None,
-            until_psi: None,
-            attitude: None,
-            position: Some(hold([0.0; 3], [0.0, 1.0, 0.0])),
-            thrust: ThrustSpec::Hover,
-        },
+        SegmentSpec::attitude(AttitudeRef::PaperFlip {}, ThrustSpec::PdProjection)
+            .toward(hold([0.0; 3], [1.0, 0.0, 0.0]))
+            .until(0.4),
+        SegmentSpec::position(hold([0.0; 3], [0.0, 1.0, 0.0])),
     ];
     s.integrator.dt = 5e-4;
     s.record.sample = 0.002;
@@ -95,17 +77,13 @@ pub fn paper_attitude_experiment() -> Scene {
     );
     s.vehicle.kind = VehicleKind::PinnedQuadrotor;
     s.disturbance = Some(DisturbanceSpec::paper());
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Attitude,
-        until: None,
-        until_psi: None,
-        attitude: Some(AttitudeRef::EulerExperiment {
+    s.plan = vec![SegmentSpec::attitude(
+        AttitudeRef::EulerExperiment {
             amplitude: PI / 9.0,
             frequency: PI,
-        }),
-        position: None,
-        thrust: ThrustSpec::Hover,
-    }];
+        },
+        ThrustSpec::Hover,
+    )];
     s.record.sample = 0.005;
     s
 }
@@ -150,14 +128,10 @@ pub fn large_attitude_error() -> Scene {
     s.vehicle.kind = VehicleKind::PinnedQuadrotor;
     let a = 170f64.to_radians() / 2f64.sqrt();
     s.initial.rotation = [a, a, 0.0];
-    s.plan = vec![SegmentSpec {
-        mode: ModeKind::Attitude,
-        until: None,
-        until_psi: None,
-        attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
-        position: None,
-        thrust: ThrustSpec::Hover,
-    }];
+    s.plan = vec![SegmentSpec::attitude(
+        AttitudeRef::Hold { rotation: [0.0; 3] },
+        ThrustSpec::Hover,
+    )];
     s.record.sample = 0.01;
     s
 }
@@ -176,22 +150,9 @@ pub fn tumble_recovery() -> Scene {
     let a = 170f64.to_radians() / 2f64.sqrt();
     s.initial.rotation = [a, a, 0.0];
     s.plan = vec![
-        SegmentSpec {
-            mode: ModeKind::Attitude,
-            until: None,
-            until_psi: Some(0.1),
-            attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
-            position: None,
-            thrust: ThrustSpec::Hover,
-        },
-        SegmentSpec {
-            mode: ModeKind::Position,
-            until: None,
-            until_psi: None,
-            attitude: None,
-            position: Some(hold([0.0; 3], [1.0, 0.0, 0.0])),
-            thrust: ThrustSpec::Hover,
-        },
+        SegmentSpec::attitude(AttitudeRef::Hold { rotation: [0.0; 3] }, ThrustSpec::Hover)
+            .until_psi(0.1),
+        SegmentSpec::position(hold([0.0; 3], [1.0, 0.0, 0.0])),
     ];
     s.integrator.dt = 5e-4;
     s.record.sample = 0.005;
@@ -278,14 +239,7 @@ pub fn gusty_hover() -> Scene {
         "RotorPy's crazyflie holding the origin in Dryden turbulence, σ = 1 m/s (rotor drag, 72 ms motors).",
         20.0,
     );
-    s.wind = Some(WindSpec::Dryden {
-        mean: [0.0; 3],
-        sigma: [1.0; 3],
-        length: [94.0, 94.0, 15.0],
-        speed: 5.0,
-        seed: 1,
-        grid: 0.005,
-    });
+    s.wind = Some(WindSpec::dryden(DrydenSpec::gusty()));
     s.initial.x = [0.0, 0.0, -1.0];
     s.plan = position_plan(hold([0.0, 0.0, -1.0], [1.0, 0.0, 0.0]));
     s
@@ -300,14 +254,12 @@ pub fn figure_eight_wind() -> Scene {
         "RotorPy's crazyflie on a figure eight in a 3 m/s wind with Dryden gusts (σ = 1 m/s).",
         20.0,
     );
-    s.wind = Some(WindSpec::Dryden {
+    // The mean wind sets the airspeed the turbulence is shaped at.
+    s.wind = Some(WindSpec::dryden(DrydenSpec {
         mean: [3.0, 0.0, 0.0],
-        sigma: [1.0; 3],
-        length: [94.0, 94.0, 15.0],
         speed: 3.0,
-        seed: 1,
-        grid: 0.005,
-    });
+        ..DrydenSpec::gusty()
+    }));
     s.initial.x = [0.0, 0.0, -1.0];
     s.plan = position_plan(PositionRef::FigureEight {
         center: [0.0, 0.0, -1.0],

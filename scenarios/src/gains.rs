@@ -38,6 +38,7 @@ use controllers::{
 };
 use lie::{Backend, NalgebraF64 as B, So3Mat};
 
+use crate::metrics::norm;
 use crate::scene::{GainsSpec, ModeKind};
 use crate::{RunOptions, RunOutput, Scene, SceneError, SimError};
 
@@ -52,10 +53,6 @@ pub struct SceneBounds {
     pub j_norm: f64,
     /// Sample times used.
     pub samples: usize,
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 fn params(scene: &Scene) -> Result<RigidBodyParams<B>, SimError> {

@@ -39,6 +39,12 @@ pub fn max_difference(a: &[Sample], b: &[Sample]) -> (f64, f64, f64, usize) {
     (dx, dv, dr, n)
 }
 
+/// The Euclidean norm of a vector in f64 components (what samples, logs
+/// and studies hold), summed in the order x, y, z.
+pub fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
 /// `max` that keeps a NaN from either side (`f64::max` drops it): fold
 /// with it wherever a maximum decides a check.
 pub fn nan_max(a: f64, b: f64) -> f64 {
@@ -174,4 +180,27 @@ pub fn work_precision(
         }
     }
     Ok(sweep)
+}
+
+/// The whole-run figure the benches time: paper-flip (4 s) by RK4 at
+/// h = 1 ms with a sample every 0.05 s, and its reference, the same scene
+/// by Dormand–Prince at tol 1e-12 (f64). One set-up for the step bench and
+/// `cargo xtask bench`, so that both time and check the same run.
+pub fn flip_rk4_1ms() -> (Scene, Scene) {
+    let mut flip = crate::builtin::paper_flip();
+    flip.integrator.kind = "rk4".into();
+    flip.integrator.dt = 1e-3;
+    flip.record.sample = 0.05;
+    let mut exact = flip.clone();
+    exact.integrator.kind = "dopri".into();
+    exact.integrator.tol = 1e-12;
+    (flip, exact)
+}
+
+/// The largest component of |Δx| and |ΔR| between two samples (a run's
+/// final state against a reference's).
+pub fn final_state_error(a: &Sample, b: &Sample) -> f64 {
+    let dx = (0..3).map(|k| (a.x[k] - b.x[k]).abs());
+    let dr = (0..9).map(|k| (a.r[k / 3][k % 3] - b.r[k / 3][k % 3]).abs());
+    dx.chain(dr).fold(0.0, f64::max)
 }

@@ -7,6 +7,7 @@
 
 #![allow(clippy::needless_range_loop)] // index notation mirrors the component formulas
 
+use crate::metrics::norm;
 use crate::metrics::{at, max_difference, max_ex_after, max_psi_after, nan_max};
 use crate::reference::rotation_f64;
 use crate::{RunOptions, RunOutput, Scene, SimError, builtin};
@@ -147,10 +148,6 @@ fn dopri(scene: &Scene) -> Result<RunOutput, SuiteError> {
     s.integrator.tol = 1e-12;
     s.integrator.dt = s.record.sample;
     run(&s)
-}
-
-fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 fn mat_mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {

@@ -329,6 +329,27 @@ fn dryden_grid() -> f64 {
 }
 
 impl WindSpec {
+    /// Dryden turbulence with the parameters of `spec` (e.g.
+    /// [`dynamics::DrydenSpec::gusty`], with its mean or speed changed).
+    pub fn dryden(spec: dynamics::DrydenSpec) -> Self {
+        let dynamics::DrydenSpec {
+            mean,
+            sigma,
+            length,
+            speed,
+            seed,
+            grid,
+        } = spec;
+        WindSpec::Dryden {
+            mean,
+            sigma,
+            length,
+            speed,
+            seed,
+            grid,
+        }
+    }
+
     /// The wind field; an error names the `wind.<field>` key.
     pub fn build(&self) -> Result<Box<dyn dynamics::Wind>, (&'static str, String)> {
         use dynamics::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind};
@@ -529,6 +550,57 @@ pub struct SegmentSpec {
     /// Thrust in attitude mode.
     #[serde(default)]
     pub thrust: ThrustSpec,
+}
+
+impl SegmentSpec {
+    /// Position mode towards `reference`, with no end.
+    pub fn position(reference: PositionRef) -> Self {
+        Self {
+            mode: ModeKind::Position,
+            until: None,
+            until_psi: None,
+            attitude: None,
+            position: Some(reference),
+            thrust: ThrustSpec::Hover,
+        }
+    }
+
+    /// Attitude mode tracking `reference` with `thrust`, with no end.
+    pub fn attitude(reference: AttitudeRef, thrust: ThrustSpec) -> Self {
+        Self {
+            mode: ModeKind::Attitude,
+            until: None,
+            until_psi: None,
+            attitude: Some(reference),
+            position: None,
+            thrust,
+        }
+    }
+
+    /// The same segment, ending at time `t`, s (absolute).
+    pub fn until(self, t: f64) -> Self {
+        Self {
+            until: Some(t),
+            ..self
+        }
+    }
+
+    /// The same segment, ending when Ψ drops below `psi`.
+    pub fn until_psi(self, psi: f64) -> Self {
+        Self {
+            until_psi: Some(psi),
+            ..self
+        }
+    }
+
+    /// The same attitude segment with `position` as the target of its
+    /// `pd-projection` thrust.
+    pub fn toward(self, position: PositionRef) -> Self {
+        Self {
+            position: Some(position),
+            ..self
+        }
+    }
 }
 
 /// Flight mode.

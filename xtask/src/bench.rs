@@ -352,13 +352,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
 /// 0.05 s): final state against Dormand–Prince at 1e-12 in f64, for both
 /// scalars (the backends agree to rounding).
 fn flip_error_line() -> Result<String, String> {
-    let mut flip = scenarios::load("paper-flip").map_err(|e| e.to_string())?;
-    flip.integrator.kind = "rk4".into();
-    flip.integrator.dt = 1e-3;
-    flip.record.sample = 0.05;
-    let mut exact = flip.clone();
-    exact.integrator.kind = "dopri".into();
-    exact.integrator.tol = 1e-12;
+    let (mut flip, exact) = scenarios::metrics::flip_rk4_1ms();
     let last = |s: &scenarios::Scene| {
         scenarios::run(s, scenarios::RunOptions::default())
             .map(|o| o.last)
@@ -368,10 +362,7 @@ fn flip_error_line() -> Result<String, String> {
     let mut errs = Vec::new();
     for scalar in [Scalar::F64, Scalar::F32] {
         flip.scalar = scalar;
-        let l = last(&flip)?;
-        let dx = (0..3).map(|k| (l.x[k] - truth.x[k]).abs());
-        let dr = (0..9).map(|k| (l.r[k / 3][k % 3] - truth.r[k / 3][k % 3]).abs());
-        errs.push(dx.chain(dr).fold(0.0, f64::max));
+        errs.push(scenarios::metrics::final_state_error(&last(&flip)?, &truth));
     }
     Ok(format!(
         "paper-flip rk4 1 ms whole run: final-state error (max |Δx|, |ΔR| against dopri 1e-12 f64) {:.2e} in f64, {:.2e} in f32",

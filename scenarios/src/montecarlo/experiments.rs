@@ -10,7 +10,8 @@ use dynamics::RigidBodyState;
 use lie::{Backend, GlamF64, Real, S};
 
 use super::{Status, Stream, Study, in_ball, shoemake};
-use crate::scene::{AttitudeRef, DisturbanceSpec, ModeKind, PositionRef, SegmentSpec, ThrustSpec};
+use crate::metrics::norm;
+use crate::scene::{AttitudeRef, DisturbanceSpec, PositionRef, SegmentSpec, ThrustSpec};
 use crate::sim::{DivergenceGuard, SimError, Simulation, SimulationBuilder};
 use crate::{Divergence, Scene, builtin};
 
@@ -149,10 +150,6 @@ impl Initial {
     }
 }
 
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
 impl Default for Setup {
     /// The position experiment as the command line runs it: 1000 samples
     /// of seed 1, |Ω(0)| ≤ 2 rad/s, ‖x(0)‖ ≤ 2 m, ‖v(0)‖ ≤ 1 m/s, settled
@@ -271,29 +268,18 @@ impl Setup {
     pub fn scene(&self, init: &Initial) -> Scene {
         let mut s = if self.is_position() {
             let mut s = builtin::hover_disturbed();
-            s.plan = vec![SegmentSpec {
-                mode: ModeKind::Position,
-                until: None,
-                until_psi: None,
-                attitude: None,
-                position: Some(PositionRef::Hold {
-                    x: [0.0; 3],
-                    b1d: [1.0, 0.0, 0.0],
-                }),
-                thrust: ThrustSpec::Hover,
-            }];
+            s.plan = vec![SegmentSpec::position(PositionRef::Hold {
+                x: [0.0; 3],
+                b1d: [1.0, 0.0, 0.0],
+            })];
             s
         } else {
             let mut s = builtin::large_attitude_error();
             s.disturbance = Some(DisturbanceSpec::paper());
-            s.plan = vec![SegmentSpec {
-                mode: ModeKind::Attitude,
-                until: None,
-                until_psi: None,
-                attitude: Some(AttitudeRef::Hold { rotation: [0.0; 3] }),
-                position: None,
-                thrust: ThrustSpec::Hover,
-            }];
+            s.plan = vec![SegmentSpec::attitude(
+                AttitudeRef::Hold { rotation: [0.0; 3] },
+                ThrustSpec::Hover,
+            )];
             s
         };
         s.name = format!("montecarlo-{}", self.experiment);

@@ -22,6 +22,7 @@ mod non_finite;
 mod precision;
 mod rates;
 
+use crate::metrics::norm;
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,
     RigidBodyParams,
@@ -267,10 +268,6 @@ fn max_abs_diff(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> f64 {
         .zip(b.iter().flatten())
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, nan_max)
-}
-
-fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 /// Largest relative drift of energy and spatial angular momentum over the
