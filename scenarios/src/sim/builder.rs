@@ -1,0 +1,305 @@
+//! The checked builder of a [`Simulation`].
+
+use super::*;
+
+use controllers::Mode;
+use dynamics::{RigidBodyState, Vehicle, Wind};
+use integrators::{Integrator, State, Stepper};
+use lie::num_traits::Float;
+use lie::{Backend, Real, S};
+
+/// Builds a [`Simulation`]; every setting is checked in
+/// [`SimulationBuilder::build`], which names the field and the value of a
+/// bad one.
+pub struct SimulationBuilder<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
+    pub(super) vehicle: Box<dyn Vehicle<B> + 'a>,
+    pub(super) wind: Option<Box<dyn Wind + 'a>>,
+    pub(super) plan: Vec<Segment<'a, B>>,
+    pub(super) stepper: I,
+    pub(super) initial: RigidBodyState<B>,
+    pub(super) integrals: Vec<S<B>>,
+    pub(super) dt: f64,
+    pub(super) duration: f64,
+    pub(super) control: Control,
+    pub(super) record: f64,
+    pub(super) locate_events: bool,
+    pub(super) compensate: bool,
+    pub(super) stop: Option<Condition<'a, B>>,
+    pub(super) guard: DivergenceGuard,
+    pub(super) warnings: Vec<String>,
+}
+
+impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, B, N, I> {
+    /// Adds warnings to [`RunOutput::warnings`] (what the caller adjusted
+    /// while building, say).
+    pub fn warnings(mut self, w: impl IntoIterator<Item = String>) -> Self {
+        self.warnings.extend(w);
+        self
+    }
+    /// Appends a segment to the plan (none: the vehicle flies with zero
+    /// command).
+    pub fn segment(mut self, segment: Segment<'a, B>) -> Self {
+        self.plan.push(segment);
+        self
+    }
+    /// Appends `mode`, left per `until`.
+    pub fn mode(self, mode: impl Mode<B> + 'a, until: Until<'a, B>) -> Self {
+        self.segment(Segment {
+            mode: Box::new(mode),
+            until,
+        })
+    }
+    /// The initial body state.
+    pub fn initial(mut self, state: RigidBodyState<B>) -> Self {
+        self.initial = state;
+        self
+    }
+    /// Initial values of the integral register (zero by default).
+    pub fn integrals(mut self, values: &[S<B>]) -> Self {
+        self.integrals = values.to_vec();
+        self
+    }
+    /// Any integrator.
+    pub fn integrator<J: Integrator<B, N>>(self, stepper: J) -> SimulationBuilder<'a, B, N, J> {
+        SimulationBuilder {
+            vehicle: self.vehicle,
+            wind: self.wind,
+            plan: self.plan,
+            stepper,
+            initial: self.initial,
+            integrals: self.integrals,
+            dt: self.dt,
+            duration: self.duration,
+            control: self.control,
+            record: self.record,
+            locate_events: self.locate_events,
+            compensate: self.compensate,
+            stop: self.stop,
+            guard: self.guard,
+            warnings: self.warnings,
+        }
+    }
+    /// The step (for Dormand–Prince: the longest call; it subdivides).
+    pub fn dt(mut self, dt: f64) -> Self {
+        self.dt = dt;
+        self
+    }
+    /// Simulated time, s.
+    pub fn duration(mut self, t: f64) -> Self {
+        self.duration = t;
+        self
+    }
+    /// Continuous or sampled control.
+    pub fn control(mut self, control: Control) -> Self {
+        self.control = control;
+        self
+    }
+    /// A sample every `interval` seconds (0: only t = 0 and the end).
+    pub fn record_every(mut self, interval: f64) -> Self {
+        self.record = interval;
+        self
+    }
+    /// Locate breakpoint crossings (on by default; off integrates across
+    /// them, a first-order error at each).
+    pub fn locate_events(mut self, on: bool) -> Self {
+        self.locate_events = on;
+        self
+    }
+    /// End the run at the first instant `condition` holds (checked after
+    /// every step, located by bisection like a switch; the last sample is
+    /// taken there and [`RunOutput::stopped_at`] says when). A Monte Carlo
+    /// driver stops a converged sample this way; a hold time is the
+    /// predicate's own state.
+    pub fn stop_when(mut self, condition: Condition<'a, B>) -> Self {
+        self.stop = Some(condition);
+        self
+    }
+    /// The wind the vehicle flies in (none by default): evaluated at the
+    /// vehicle's position at every load and handed to
+    /// [`Vehicle::total_loads_in_wind`]; the steps land on its jumps.
+    pub fn wind(mut self, wind: Box<dyn Wind + 'a>) -> Self {
+        self.wind = Some(wind);
+        self
+    }
+    /// End the run with [`Termination::Diverged`] when it passes one of
+    /// `guard`'s limits (none by default).
+    pub fn guard(mut self, guard: DivergenceGuard) -> Self {
+        self.guard = guard;
+        self
+    }
+    /// Subtract the vehicle's configuration moment (gravity about a pivot)
+    /// from every command, as the paper does on its test stand.
+    pub fn compensate_configuration_moment(mut self, on: bool) -> Self {
+        self.compensate = on;
+        self
+    }
+
+    /// The settings' values: finite and in range, each error naming its
+    /// field and value.
+    fn check_settings(&self) -> Result<(), SimError> {
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(bad("dt", format!("{} must be finite and > 0", self.dt)));
+        }
+        if !(self.duration.is_finite() && self.duration > 0.0) {
+            return Err(bad(
+                "duration",
+                format!("{} must be finite and > 0", self.duration),
+            ));
+        }
+        if !(self.record.is_finite() && self.record >= 0.0) {
+            return Err(bad(
+                "record_every",
+                format!("{} must be finite and ≥ 0", self.record),
+            ));
+        }
+        if let Control::Sampled { rate } = self.control
+            && !(rate.is_finite() && rate > 0.0)
+        {
+            return Err(bad(
+                "control",
+                format!("sampled rate {rate} Hz must be finite and > 0"),
+            ));
+        }
+        if let Some(f) = self.initial.non_finite_field() {
+            return Err(bad("initial", format!("`{f}` is not finite")));
+        }
+        Ok(())
+    }
+
+    /// The plan: segment end times increasing, Ψ thresholds in (0, 2), no
+    /// switch condition on the last segment.
+    fn check_plan(&self) -> Result<(), SimError> {
+        let mut last = 0.0;
+        for (k, seg) in self.plan.iter().enumerate() {
+            let is_last = k + 1 == self.plan.len();
+            match seg.until {
+                Until::Time(u) if !(u.is_finite() && u > last) => {
+                    return Err(bad(
+                        "plan",
+                        format!("segment {k} ends at {u}: must be finite and after {last}"),
+                    ));
+                }
+                Until::Time(u) => last = u,
+                Until::PsiBelow(p) if !(p.is_finite() && p > 0.0 && p < 2.0) => {
+                    return Err(bad(
+                        "plan",
+                        format!("segment {k}: Ψ threshold {p} must be in (0, 2)"),
+                    ));
+                }
+                _ => {}
+            }
+            if is_last && !matches!(seg.until, Until::Never | Until::Time(_)) {
+                return Err(bad(
+                    "plan",
+                    format!(
+                        "segment {k} is the last: its switch condition has nothing to switch to"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks every setting and lays out the extra states.
+    pub fn build(self) -> Result<Simulation<'a, B, N, I>, SimError> {
+        self.check_settings()?;
+        self.check_plan()?;
+        let integrals = self
+            .plan
+            .iter()
+            .map(|s| s.mode.integral_count())
+            .max()
+            .unwrap_or(0);
+        let vehicle_states = self.vehicle.state_count();
+        if integrals + vehicle_states > N {
+            return Err(SimError::Layout {
+                integrals,
+                vehicle_states,
+                capacity: N,
+            });
+        }
+        if self.integrals.len() > integrals {
+            return Err(bad(
+                "integrals",
+                format!(
+                    "{} initial values given, the plan's modes use {integrals}",
+                    self.integrals.len()
+                ),
+            ));
+        }
+        if self.integrals.iter().any(|v| !v.is_finite()) {
+            return Err(bad(
+                "integrals",
+                format!(
+                    "{:?} must be finite",
+                    self.integrals
+                        .iter()
+                        .map(|v| v.to_f64_lossless())
+                        .collect::<Vec<_>>()
+                ),
+            ));
+        }
+        let mut initial = State::<B, N>::new(self.initial);
+        if !self.vehicle.translates() {
+            initial.body.x = lie::ops::zero::<B>();
+            initial.body.v = lie::ops::zero::<B>();
+        }
+        initial.extra[..self.integrals.len()].copy_from_slice(&self.integrals);
+        if lie::ops::inverse::<B>(self.vehicle.inertia()).is_none() {
+            return Err(bad("vehicle", "its inertia is singular".into()));
+        }
+        if let Some(c) = self.guard.substeps
+            && c == 0
+        {
+            return Err(bad("guard", "a substep cap of 0 allows no step".into()));
+        }
+        for (name, v) in [
+            ("omega", self.guard.omega),
+            ("position_error", self.guard.position_error),
+            ("moment", self.guard.moment),
+        ] {
+            if let Some(v) = v
+                && (v.is_nan() || v <= 0.0)
+            {
+                return Err(bad("guard", format!("`{name}` limit {v} must be > 0")));
+            }
+        }
+        let mut stepper = self.stepper;
+        if let Some(c) = self.guard.substeps {
+            stepper.limit_substeps(c);
+        }
+        let mut plan = self.plan;
+        let mut wind = self.wind;
+        let mut running = stepping::prepare(
+            self.vehicle.as_ref(),
+            wind.as_deref_mut(),
+            &mut plan,
+            &stepping::Settings {
+                control: self.control,
+                compensate: self.compensate,
+                m: integrals,
+                nv: vehicle_states,
+                dt: self.dt,
+                t_end: self.duration,
+                record: self.record,
+                locate_events: self.locate_events,
+            },
+        )?;
+        running.out.warnings.extend(self.warnings);
+        Ok(Simulation {
+            vehicle: self.vehicle,
+            wind,
+            plan,
+            stepper,
+            y: initial,
+            integrals,
+            vehicle_states,
+            duration: self.duration,
+            stop: self.stop,
+            guard: self.guard,
+            running: Box::new(running),
+            perturbed: false,
+            failed: false,
+        })
+    }
+}
