@@ -1,0 +1,521 @@
+//! The MCAP writer: Foxglove's messages and ours, protobuf-encoded on a
+//! thread of its own.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use super::*;
+use crate::{RunOutput, Sample, SwitchRecord};
+
+/// Unit quaternion `(x, y, z, w)` (Foxglove's order, `w ≥ 0`) of a rotation
+/// matrix given by rows, through `lie::shepperd` (largest pivot, no
+/// cancellation near angle π).
+pub fn quaternion_xyzw(r: &[[f64; 3]; 3]) -> [f64; 4] {
+    use lie::{NalgebraF64, ops};
+    let [w, x, y, z] = lie::shepperd::<NalgebraF64>(ops::from_elems::<NalgebraF64>(*r));
+    let n = (w * w + x * x + y * y + z * z).sqrt();
+    let sg = if w < 0.0 { -1.0 } else { 1.0 };
+    [sg * x / n, sg * y / n, sg * z / n, sg * w / n]
+}
+
+/// The topic of a vehicle's internal states (rotor thrusts with lag, …),
+/// written only for a vehicle that has them.
+pub const STATES_TOPIC: &str = "/vehicle/states";
+
+/// The topic of the wind at the vehicle (`foxglove.Vector3`, inertial,
+/// m/s), written from the first sample with a non-zero wind on.
+pub const WIND_TOPIC: &str = "/wind";
+
+/// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]
+/// and [`WIND_TOPIC`]).
+pub const TOPICS: [&str; 7] = [
+    "/vehicle/pose",
+    "/desired/pose",
+    "/tf",
+    "/errors",
+    "/command",
+    "/integrals",
+    "/mode",
+];
+
+/// The messages of the `gpid` channels, protobuf-encoded through the
+/// `foxglove` crate's derive (each type's schema is a protobuf
+/// `FileDescriptorSet` stored in the MCAP, so any protobuf reader decodes
+/// them; the poses and transforms are Foxglove's own `PoseInFrame` and
+/// `FrameTransform`).
+pub mod msg {
+    pub use foxglove::messages::{
+        FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3,
+    };
+
+    /// `/errors`: Ψ, ‖e_x‖, e_x = x − x_d, Ω and Ω_d (or Ω_c).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Errors {
+        /// Ψ against the active desired attitude.
+        pub psi: f64,
+        /// ‖x − x_d‖, m.
+        pub ex: f64,
+        /// x − x_d, m.
+        pub e_x: Vector3,
+        /// Body angular velocity, rad/s.
+        pub omega: Vector3,
+        /// Desired angular velocity, rad/s.
+        pub omega_d: Vector3,
+    }
+
+    /// `/command`: the commanded thrust and moment, the rotor thrusts
+    /// delivered.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Command {
+        /// N.
+        pub thrust: f64,
+        /// N m, body frame.
+        pub moment: Vector3,
+        /// N, one per rotor (empty without rotors).
+        pub rotor_thrusts: Vec<f64>,
+    }
+
+    /// `/integrals`: the integral states (named so because protobuf's
+    /// JSON names of `e_I` and `e_i` would collide).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct Integrals {
+        /// e_I, the attitude integral (register slots 0–2).
+        pub attitude: Vector3,
+        /// e_i, the position integral (slots 3–5).
+        pub position: Vector3,
+    }
+
+    /// `/mode`: a switch, and the first mode at t = 0.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct ModeSwitch {
+        /// s.
+        pub t: f64,
+        /// Segment left.
+        pub from: u32,
+        /// Segment entered.
+        pub to: u32,
+        /// Its mode's name.
+        pub mode: String,
+    }
+
+    /// `/vehicle/states`: a vehicle's internal states.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct VehicleStates {
+        /// In the vehicle's own order.
+        pub states: Vec<f64>,
+    }
+}
+
+use foxglove::Encode as _;
+use msg::{FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3};
+
+fn v3(a: [f64; 3]) -> Vector3 {
+    Vector3 {
+        x: a[0],
+        y: a[1],
+        z: a[2],
+    }
+}
+
+fn q4(q: [f64; 4]) -> Quaternion {
+    Quaternion {
+        x: q[0],
+        y: q[1],
+        z: q[2],
+        w: q[3],
+    }
+}
+
+fn stamp(ns: u64) -> Option<Timestamp> {
+    // u32 seconds: 136 years of simulated time.
+    Some(Timestamp::new(
+        u32::try_from(ns / 1_000_000_000).unwrap_or(u32::MAX),
+        (ns % 1_000_000_000) as u32,
+    ))
+}
+
+/// Nanoseconds of a sample time (MCAP log times; negative or non-finite
+/// times, which a run never produces, clamp to 0).
+fn nanos(t: f64) -> u64 {
+    (t * 1e9).round() as u64
+}
+
+/// Messages formatted on the simulation's thread, handed to the writer
+/// thread in one piece.
+#[derive(Default)]
+struct Batch {
+    bytes: Vec<u8>,
+    /// (channel slot, log time in ns, end offset in `bytes`).
+    msgs: Vec<(u8, u64, usize)>,
+}
+
+/// Messages per batch handed to the writer thread.
+const BATCH: usize = 4096;
+
+/// The channel slot of `/vehicle/states` (created at its first message).
+const STATES_SLOT: u8 = 7;
+/// The channel slot of `/wind` (created at its first message).
+const WIND_SLOT: u8 = 8;
+
+type Mcap = mcap::Writer<mcap::write::NoSeek<BufWriter<File>>>;
+
+/// Appends one protobuf message to `buf` (a growing `Vec` never runs out
+/// of room, so this fails only on a message the type cannot encode).
+fn enc<M: foxglove::Encode>(buf: &mut Vec<u8>, path: &Path, m: &M) -> Result<(), OutputError> {
+    m.encode(buf).map_err(|x| err(path, x))
+}
+
+/// Adds a protobuf schema from the `foxglove` crate's description of a
+/// message type.
+fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> Result<u16, mcap::McapError> {
+    let s = schema.expect("every message type here has a protobuf schema");
+    w.add_schema(&s.name, &s.encoding, &s.data)
+}
+
+/// The writer thread: writes each batch's messages, creating the states
+/// and wind channels at their first messages; returns the writer for
+/// `finish`.
+fn write_batches(
+    mut w: Mcap,
+    ch: [u16; 7],
+    rx: std::sync::mpsc::Receiver<Batch>,
+) -> Result<Mcap, mcap::McapError> {
+    let mut seq = [0u32; 9];
+    // Channels created on demand: (slot, topic, schema, id once created).
+    let mut lazy: [(u8, &str, Option<foxglove::Schema>, Option<u16>); 2] = [
+        (
+            STATES_SLOT,
+            STATES_TOPIC,
+            msg::VehicleStates::get_schema(),
+            None,
+        ),
+        (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
+    ];
+    for batch in rx {
+        let mut start = 0;
+        for &(slot, ns, end) in &batch.msgs {
+            let channel_id = match lazy.iter_mut().find(|l| l.0 == slot) {
+                Some((_, _, _, Some(id))) => *id,
+                Some((_, topic, schema, id)) => {
+                    let schema = add_schema(&mut w, schema.take())?;
+                    let new = w.add_channel(schema, topic, "protobuf", &BTreeMap::new())?;
+                    *id = Some(new);
+                    new
+                }
+                None => ch[usize::from(slot)],
+            };
+            let k = usize::from(slot);
+            seq[k] = seq[k].wrapping_add(1);
+            w.write_to_known_channel(
+                &mcap::records::MessageHeader {
+                    channel_id,
+                    sequence: seq[k],
+                    log_time: ns,
+                    publish_time: ns,
+                },
+                &batch.bytes[start..end],
+            )?;
+            start = end;
+        }
+    }
+    Ok(w)
+}
+
+/// Streams a run to an MCAP log: poses as `foxglove.PoseInFrame` (frame
+/// `ned`, the paper's e3-down inertial frame), `/tf` as
+/// `foxglove.FrameTransform` (`world` z-up → `ned` is a half turn about x,
+/// constant, sent with the first sample and then at most every
+/// [`STATIC_TF_NS`] of simulated time; `ned` → `body` is the vehicle pose,
+/// every sample) so Foxglove's 3D panel shows the vehicle upright, and the
+/// [`msg`] channels for errors, commands, integral states and mode switches
+/// for its plot panel. Every message is protobuf with its schema (a
+/// `FileDescriptorSet`) in the file: Foxglove reads it as is, and the
+/// official Python `mcap` reader with `mcap-protobuf-support` decodes every
+/// message (the README has the snippet). Chunks are lz4-compressed.
+///
+/// Protobuf rather than JSON: on one hour at 1 kHz it is half the
+/// encoding time and 30 % fewer bytes (doubles are copied, not formatted);
+/// see the README for the measurement.
+///
+/// The messages are encoded on the caller's thread and written (record
+/// framing, lz4, CRCs, I/O) by a thread of the writer's own, through a
+/// bounded queue: on two cores, compression overlaps the simulation, and a
+/// writer slower than the simulation slows it down instead of piling up
+/// samples in memory.
+pub struct McapWriter {
+    path: PathBuf,
+    target: Target,
+    batch: Batch,
+    worker: Worker<Batch, Mcap>,
+    mode_names: Vec<&'static str>,
+    messages: u64,
+    next_static_ns: u64,
+    // Reused messages: their strings and vectors are allocated once.
+    pose: PoseInFrame,
+    world_tf: FrameTransform,
+    body_tf: FrameTransform,
+    command: msg::Command,
+    states: msg::VehicleStates,
+    wind_on: bool,
+}
+
+/// The longest simulated time between two `world → ned` transforms, ns.
+pub const STATIC_TF_NS: u64 = 100_000_000;
+
+impl McapWriter {
+    /// Creates `<path>.partial` with the schemas and channels, and starts
+    /// the writer thread.
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        let (target, file) = Target::open(path)?;
+        let e = |x: mcap::McapError| err_chain(path, &x);
+        // Never seek, so a pipe works like a file: each chunk is assembled
+        // in memory (a few hundred kB) and written once.
+        let file = mcap::write::NoSeek::new(BufWriter::with_capacity(1 << 20, file));
+        let mut w = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Lz4))
+            .profile("")
+            .disable_seeking(true)
+            .create(file)
+            .map_err(e)?;
+        let pose = add_schema(&mut w, PoseInFrame::get_schema()).map_err(e)?;
+        let tf = add_schema(&mut w, FrameTransform::get_schema()).map_err(e)?;
+        let errors = add_schema(&mut w, msg::Errors::get_schema()).map_err(e)?;
+        let command = add_schema(&mut w, msg::Command::get_schema()).map_err(e)?;
+        let integrals = add_schema(&mut w, msg::Integrals::get_schema()).map_err(e)?;
+        let mode = add_schema(&mut w, msg::ModeSwitch::get_schema()).map_err(e)?;
+        let meta = BTreeMap::new();
+        let mut ch = [0u16; 7];
+        for (k, schema) in [pose, pose, tf, errors, command, integrals, mode]
+            .into_iter()
+            .enumerate()
+        {
+            ch[k] = w
+                .add_channel(schema, TOPICS[k], "protobuf", &meta)
+                .map_err(e)?;
+        }
+        let mcap_path = path.to_path_buf();
+        let worker = Worker::spawn(path, "mcap-writer", move |rx| {
+            write_batches(w, ch, rx).map_err(|e| err_chain(&mcap_path, &e))
+        })?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            target,
+            batch: Batch::default(),
+            worker,
+            mode_names: Vec::new(),
+            messages: 0,
+            next_static_ns: 0,
+            pose: PoseInFrame {
+                frame_id: "ned".into(),
+                ..Default::default()
+            },
+            world_tf: FrameTransform {
+                parent_frame_id: "world".into(),
+                child_frame_id: "ned".into(),
+                translation: Some(v3([0.0; 3])),
+                rotation: Some(q4([1.0, 0.0, 0.0, 0.0])),
+                ..Default::default()
+            },
+            body_tf: FrameTransform {
+                parent_frame_id: "ned".into(),
+                child_frame_id: "body".into(),
+                ..Default::default()
+            },
+            command: msg::Command::default(),
+            states: msg::VehicleStates::default(),
+            wind_on: false,
+        })
+    }
+
+    /// Messages written so far.
+    pub fn messages(&self) -> u64 {
+        self.messages
+    }
+
+    /// Ends the message being formatted at the end of the batch buffer.
+    fn put(&mut self, slot: u8, ns: u64) -> Result<(), OutputError> {
+        self.batch.msgs.push((slot, ns, self.batch.bytes.len()));
+        self.messages += 1;
+        if self.batch.msgs.len() >= BATCH {
+            self.send()?;
+        }
+        Ok(())
+    }
+
+    fn send(&mut self) -> Result<(), OutputError> {
+        let next = Batch {
+            bytes: Vec::with_capacity(self.batch.bytes.capacity()),
+            msgs: Vec::with_capacity(BATCH),
+        };
+        let batch = std::mem::replace(&mut self.batch, next);
+        self.worker.send(batch)
+    }
+
+    fn put_switch(&mut self, t: f64, from: usize, to: usize) -> Result<(), OutputError> {
+        let name = self.mode_names.get(to).copied().unwrap_or("none");
+        let m = msg::ModeSwitch {
+            t,
+            from: u32::try_from(from).unwrap_or(u32::MAX),
+            to: u32::try_from(to).unwrap_or(u32::MAX),
+            mode: name.to_string(),
+        };
+        self.encode(&m)?;
+        self.put(6, nanos(t))
+    }
+
+    /// Appends one protobuf message to the batch buffer.
+    fn encode<M: foxglove::Encode>(&mut self, m: &M) -> Result<(), OutputError> {
+        enc(&mut self.batch.bytes, &self.path, m)
+    }
+
+    /// Writes what is queued, then the run's warnings (a `warnings`
+    /// metadata record, one entry each) and, for a run that ended early, a
+    /// `stopped` record (`t`, `reason`); writes the summary and indexes,
+    /// syncs, and renames `<path>.partial` to `<path>`. Returns the message
+    /// count.
+    pub fn finish(
+        mut self,
+        warnings: &[String],
+        stopped: Option<&Stopped>,
+    ) -> Result<u64, OutputError> {
+        if !self.batch.msgs.is_empty() {
+            self.send()?;
+        }
+        let mut w = self.worker.join()?;
+        let path = self.path.clone();
+        let e = |x: mcap::McapError| err_chain(&path, &x);
+        if !warnings.is_empty() {
+            let metadata = warnings
+                .iter()
+                .enumerate()
+                .map(|(k, w)| (format!("warning {}", k + 1), w.clone()))
+                .collect();
+            w.write_metadata(&mcap::records::Metadata {
+                name: "warnings".into(),
+                metadata,
+            })
+            .map_err(e)?;
+        }
+        if let Some(s) = stopped {
+            let metadata = [
+                ("t".to_string(), format!("{}", s.t)),
+                ("reason".to_string(), s.reason.clone()),
+            ]
+            .into_iter()
+            .collect();
+            w.write_metadata(&mcap::records::Metadata {
+                name: "stopped".into(),
+                metadata,
+            })
+            .map_err(e)?;
+        }
+        w.finish().map_err(e)?;
+        let f = w
+            .into_inner()
+            .into_inner()
+            .into_inner()
+            .map_err(|x| err_io(&path, x.error()))?;
+        self.target.commit(&f, &path)?;
+        Ok(self.messages)
+    }
+}
+
+impl Sink for McapWriter {
+    fn begin(&mut self, mode_names: &[&'static str]) -> Result<(), OutputError> {
+        self.mode_names = mode_names.to_vec();
+        if !self.mode_names.is_empty() {
+            self.put_switch(0.0, 0, 0)?;
+        }
+        Ok(())
+    }
+
+    fn switch(&mut self, sw: &SwitchRecord, _: &str) -> Result<(), OutputError> {
+        self.put_switch(sw.t, sw.from, sw.to)
+    }
+
+    fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
+        let ns = nanos(s.t);
+        let q = quaternion_xyzw(&s.r);
+        let qd = quaternion_xyzw(&s.rd);
+        for (k, x, q) in [(0, s.x, q), (1, s.xd, qd)] {
+            let p = &mut self.pose;
+            p.timestamp = stamp(ns);
+            p.pose = Some(Pose {
+                position: Some(v3(x)),
+                orientation: Some(q4(q)),
+            });
+            enc(&mut self.batch.bytes, &self.path, &self.pose)?;
+            self.put(k, ns)?;
+        }
+        // world (z up) → ned: a half turn about x, (x, y, z, w). It never
+        // changes, so it goes out at most every STATIC_TF_NS of simulated
+        // time (Foxglove holds a transform until a newer one comes): at
+        // 1 kHz sampling, a tenth of the log's bytes saved.
+        if ns >= self.next_static_ns {
+            self.next_static_ns = ns.saturating_add(STATIC_TF_NS);
+            self.world_tf.timestamp = stamp(ns);
+            enc(&mut self.batch.bytes, &self.path, &self.world_tf)?;
+            self.put(2, ns)?;
+        }
+        self.body_tf.timestamp = stamp(ns);
+        self.body_tf.translation = Some(v3(s.x));
+        self.body_tf.rotation = Some(q4(q));
+        enc(&mut self.batch.bytes, &self.path, &self.body_tf)?;
+        self.put(2, ns)?;
+        let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
+        self.encode(&msg::Errors {
+            psi: s.psi,
+            ex: s.ex,
+            e_x: v3(e_x),
+            omega: v3(s.omega),
+            omega_d: v3(s.omega_d),
+        })?;
+        self.put(3, ns)?;
+        self.command.thrust = s.thrust;
+        self.command.moment = v3(s.moment);
+        self.command.rotor_thrusts.clear();
+        self.command.rotor_thrusts.extend_from_slice(&s.rotors);
+        enc(&mut self.batch.bytes, &self.path, &self.command)?;
+        self.put(4, ns)?;
+        self.encode(&msg::Integrals {
+            attitude: v3(s.e_att),
+            position: v3(s.e_pos),
+        })?;
+        self.put(5, ns)?;
+        if !s.vehicle_states.is_empty() {
+            // Only a vehicle with internal states gets their channel (the
+            // writer thread creates it at the first message).
+            self.states.states.clear();
+            self.states.states.extend_from_slice(&s.vehicle_states);
+            enc(&mut self.batch.bytes, &self.path, &self.states)?;
+            self.put(STATES_SLOT, ns)?;
+        }
+        self.wind_on |= s.wind != [0.0; 3];
+        if self.wind_on {
+            self.encode(&v3(s.wind))?;
+            self.put(WIND_SLOT, ns)?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes a finished run as MCAP (see [`McapWriter`]), its warnings as a
+/// `warnings` metadata record.
+pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<u64, OutputError> {
+    let mut w = McapWriter::create(path)?;
+    w.begin(&out.mode_names)?;
+    let mut switches = out.switches.iter().peekable();
+    for s in &out.samples {
+        while let Some(sw) = switches.next_if(|sw| sw.t <= s.t) {
+            w.switch(sw, "")?;
+        }
+        w.sample(s)?;
+    }
+    let stopped = out.interrupted_at().map(|t| Stopped {
+        t,
+        reason: "interrupted".into(),
+    });
+    w.finish(&out.warnings, stopped.as_ref())
+}
