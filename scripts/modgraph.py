@@ -25,7 +25,7 @@ import sys
 from collections import defaultdict
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "xtask", "python", "testkit"]
+CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "xtask", "python", "testkit", "capi"]
 
 
 def module_of(src, path):

@@ -1,0 +1,168 @@
+//! Checks a firmware run against the host: reads the stored inputs and
+//! what the Cortex-M4F image printed under QEMU, runs the same two C-ABI
+//! calls on the host for every record, and requires the two sides' output
+//! bits to be equal. Then prints what the calls cost on the target, and
+//! fails when an update needs more than its instruction budget or the
+//! stack more than 4 KB.
+//!
+//! Run: `cargo run -p capi --example check_firmware -- <vectors.bin> <qemu-output.txt>`
+//! (`scripts/flight.sh` builds the image, runs QEMU and calls this).
+
+use geopid_control::vectors::{OUTPUT_WORDS, RECORD_BYTES, Record, output_words};
+use geopid_control::*;
+use std::process::ExitCode;
+
+/// A full position-mode update (position law with its attitude law) in at
+/// most 1 % of a 500 Hz tick on a 168 MHz core: 168e6 / 500 / 100.
+const POSITION_BUDGET: f64 = 3360.0;
+/// Stack budget of one update, bytes.
+const STACK_BUDGET: usize = 4096;
+
+/// The host's words for one record, with the two statuses.
+fn host_words(r: &Record) -> (i32, i32, [u32; OUTPUT_WORDS]) {
+    let (v, pg, ag) = (
+        gpc_paper_vehicle(),
+        gpc_paper_position_gains(),
+        gpc_paper_attitude_gains(),
+    );
+    let (mut p, mut a) = (GpcPositionOutput::default(), GpcAttitudeOutput::default());
+    let ps = gpc_position_update(
+        Some(&v),
+        Some(&pg),
+        Some(&ag),
+        Some(&r.state),
+        Some(&r.integrals),
+        Some(&r.position),
+        Some(&mut p),
+    );
+    let as_ = gpc_attitude_update(
+        Some(&v),
+        Some(&ag),
+        Some(&r.state),
+        Some(&r.integrals),
+        Some(&r.attitude),
+        Some(&mut a),
+    );
+    (ps as i32, as_ as i32, output_words(&p, &a))
+}
+
+/// `(min, max, sum, count)` of a `C` line.
+fn cost(fields: &[&str]) -> Result<[f64; 4], String> {
+    let mut out = [0.0; 4];
+    for (o, f) in out.iter_mut().zip(fields) {
+        *o = f.parse().map_err(|e| format!("cost field `{f}`: {e}"))?;
+    }
+    Ok(out)
+}
+
+fn compare(vectors: &[u8], printed: &str) -> Result<(), String> {
+    let records: Vec<Record> = vectors
+        .chunks_exact(RECORD_BYTES)
+        .map(|c| Record::decode(c).expect("whole record"))
+        .collect();
+    let (mut matched, mut costs, mut stack, mut done) = (0usize, Vec::new(), None, None);
+    for line in printed.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        match f.as_slice() {
+            ["R", i, ps, as_, words @ ..] => {
+                let i: usize = i.parse().map_err(|e| format!("record index `{i}`: {e}"))?;
+                let r = records
+                    .get(i)
+                    .ok_or(format!("record {i} is not in the vectors"))?;
+                let target: Vec<u32> = words
+                    .iter()
+                    .map(|w| u32::from_str_radix(w, 16).map_err(|e| format!("word `{w}`: {e}")))
+                    .collect::<Result<_, _>>()?;
+                let (hps, has, host) = host_words(r);
+                if (ps.parse::<i32>().ok(), as_.parse::<i32>().ok()) != (Some(hps), Some(has)) {
+                    return Err(format!(
+                        "record {i}: statuses {ps} {as_} on the target, {hps} {has} on the host"
+                    ));
+                }
+                if let Some(k) = (0..OUTPUT_WORDS).find(|&k| target.get(k) != Some(&host[k])) {
+                    return Err(format!(
+                        "record {i}, word {k}: target {:?}, host {:08x} ({})",
+                        target.get(k).map(|w| format!("{w:08x}")),
+                        host[k],
+                        f32::from_bits(host[k])
+                    ));
+                }
+                matched += 1;
+            }
+            ["C", name, rest @ ..] => costs.push((name.to_string(), cost(rest)?)),
+            ["S", "stack", b] => stack = b.parse::<usize>().ok(),
+            ["D", n] => done = n.parse::<usize>().ok(),
+            _ => {}
+        }
+    }
+    if done != Some(records.len()) || matched != records.len() {
+        return Err(format!(
+            "the image compared {matched} of {} records (done line: {done:?})",
+            records.len()
+        ));
+    }
+    println!(
+        "{matched} records: every output word of both laws equal on the Cortex-M4F and the host"
+    );
+    report(&costs, stack)
+}
+
+fn report(costs: &[(String, [f64; 4])], stack: Option<usize>) -> Result<(), String> {
+    let cal = costs
+        .iter()
+        .find(|(n, _)| n == "calibration")
+        .map(|(_, c)| c[2] / c[3] / 1000.0)
+        .ok_or("no calibration line")?;
+    println!("SysTick ticks per instruction (1 000 nops): {cal:.5}");
+    println!(
+        "{:<10} {:>12} {:>12} {:>12}",
+        "update", "min instr", "mean instr", "max instr"
+    );
+    let mut position = None;
+    for (name, [min, max, sum, n]) in costs.iter().filter(|(n, _)| n != "calibration") {
+        let mean = sum / n / cal;
+        println!(
+            "{name:<10} {:>12.0} {mean:>12.0} {:>12.0}",
+            min / cal,
+            max / cal
+        );
+        if name == "position" {
+            position = Some(max / cal);
+        }
+    }
+    let stack = stack.ok_or("no stack line")?;
+    println!("stack high-water of an update: {stack} B");
+    let position = position.ok_or("no position line")?;
+    if position > POSITION_BUDGET {
+        return Err(format!(
+            "position update {position:.0} instructions > budget {POSITION_BUDGET}"
+        ));
+    }
+    if stack > STACK_BUDGET {
+        return Err(format!("stack {stack} B > budget {STACK_BUDGET} B"));
+    }
+    println!(
+        "within budget: position update ≤ {POSITION_BUDGET} instructions, stack ≤ {STACK_BUDGET} B"
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [vectors, printed] = args.as_slice() else {
+        eprintln!("usage: check_firmware <vectors.bin> <qemu-output.txt>");
+        return ExitCode::from(2);
+    };
+    let read = |p: &str| std::fs::read(p).map_err(|e| format!("{p}: {e}"));
+    let result = read(vectors).and_then(|v| {
+        let text = String::from_utf8(read(printed)?).map_err(|e| format!("{printed}: {e}"))?;
+        compare(&v, &text)
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("check_firmware: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

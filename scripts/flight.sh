@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# The flight-ready check: builds the Cortex-M4F test image (firmware/) for
+# thumbv7em-none-eabihf, runs it under QEMU's netduinoplus2 (an STM32F405,
+# the Crazyflie 2.x's CPU), and compares every output word with the host's
+# f32 results of the same inputs; then reports and checks what the laws
+# cost there (instructions per update, .text, stack).
+#
+# Installs what it needs: the target's toolchain (rustup's target if the
+# runner has one, else Debian's rustc-web with -Zbuild-std=core) and QEMU
+# (Debian's qemu-system-arm, unpacked into target/qemu when installing it
+# would remove an installed package). The rustup toolchain stays first on
+# PATH; only the image's build sees Debian's.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+target=thumbv7em-none-eabihf
+start=$SECONDS
+stage() { echo "-- $1 ($((SECONDS - start)) s)"; }
+apt_updated=
+apt() {
+    if [ -z "$apt_updated" ]; then apt-get update -q >/dev/null; apt_updated=1; fi
+    DEBIAN_FRONTEND=noninteractive apt-get "$@"
+}
+
+stage "toolchain for $target"
+if rustup target list --installed 2>/dev/null | grep -qx "$target"; then
+    echo "rustup's $target standard library: plain cargo build"
+    build_image() { cargo build --release; }
+else
+    if ! { [ -x /usr/bin/rustc ] && [ -d /usr/lib/rustlib/src/rust/library ] && command -v ld.lld-22 >/dev/null; }; then
+        echo "installing Debian's rustc-web, cargo-web, rust-web-src and lld-22"
+        apt install -y -q rustc-web cargo-web rust-web-src lld-22 >/dev/null
+    fi
+    echo "rustup has no $target here: Debian's $(/usr/bin/rustc --version), core built from rust-web-src (-Zbuild-std=core), linked by ld.lld-22"
+    build_image() {
+        env PATH="/usr/bin:$PATH" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 \
+            CARGO_TARGET_THUMBV7EM_NONE_EABIHF_LINKER=ld.lld-22 \
+            /usr/bin/cargo build --release -Zbuild-std=core
+    }
+fi
+
+stage "QEMU"
+if command -v qemu-system-arm >/dev/null; then
+    qemu=(qemu-system-arm)
+elif ! apt-get install -s qemu-system-arm 2>/dev/null | grep -q '^Remv'; then
+    apt install -y -q qemu-system-arm >/dev/null
+    qemu=(qemu-system-arm)
+else
+    # Installing it would remove a package (Debian's qemu-utils from
+    # backports, here): its .deb and the libraries it lacks, unpacked.
+    dir=$root/target/qemu
+    if [ ! -x "$dir/root/usr/bin/qemu-system-arm" ]; then
+        mkdir -p "$dir"
+        (cd "$dir" && apt download qemu-system-arm libfdt1 libcapstone4 libpmem1 librdmacm1 \
+            libibverbs1 libslirp0 libvdeplug2 libndctl6 libdaxctl1 libnl-3-200 libnl-route-3-200 >/dev/null \
+            && for deb in ./*.deb; do dpkg-deb -x "$deb" root; done)
+    fi
+    libs="$dir/root/usr/lib/x86_64-linux-gnu:$dir/root/lib/x86_64-linux-gnu"
+    qemu=(env "LD_LIBRARY_PATH=$libs" "$dir/root/usr/bin/qemu-system-arm")
+    echo "qemu-system-arm unpacked into target/qemu (installing it would remove a package)"
+fi
+"${qemu[@]}" --version | head -1
+
+stage "fmt and clippy of the firmware crate (clippy checks it for the host: a no_std, no_main crate checks there)"
+cargo fmt --manifest-path firmware/Cargo.toml -- --check
+CARGO_TARGET_DIR="$root/target/firmware-host" \
+    cargo clippy -q --manifest-path firmware/Cargo.toml --target x86_64-unknown-linux-gnu -- -D warnings
+
+stage "build the image"
+(cd firmware && CARGO_TARGET_DIR="$root/target/firmware" build_image)
+elf=$root/target/firmware/$target/release/firmware
+
+stage "run it under QEMU (netduinoplus2, Cortex-M4, -icount shift=0: one instruction per virtual ns)"
+out=$root/target/firmware/qemu.txt
+timeout 300 "${qemu[@]}" -machine netduinoplus2 -cpu cortex-m4 -nographic -monitor none \
+    -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" > "$out"
+echo "the image exited 0 after $(grep -c '^R ' "$out") records"
+
+stage "compare with the host"
+cargo run -q -p capi --example check_firmware -- firmware/vectors/paper-flip-f32.bin "$out"
+
+stage "sizes"
+size_tool=$(command -v llvm-size-22 || command -v llvm-size || command -v rust-size || true)
+nm_tool=$(command -v llvm-nm-22 || command -v llvm-nm || command -v rust-nm || true)
+if [ -z "$size_tool" ] || [ -z "$nm_tool" ]; then
+    echo "no llvm-size/llvm-nm on PATH: sizes not measured"
+    exit 1
+fi
+text=$("$size_tool" -A "$elf" | awk '$1 == ".text" {print $2}')
+controller=$("$nm_tool" -S -C --size-sort --radix=d "$elf" \
+    | awk '$3 ~ /^[tT]$/ && $0 ~ /(gpc_|geopid_control::|controllers::|lie::|libm::)/ {s += $2} END {print s + 0}')
+echo "image .text: $text B; the controller's functions (gpc_*, controllers, lie, libm): $controller B; heap: none (no allocator in the image)"
+if [ "$controller" -gt 49152 ]; then
+    echo "the controller's .text exceeds 48 KB"
+    exit 1
+fi
+stage "done"
