@@ -1,8 +1,8 @@
 //! Attitude controlled flight mode (Section III): the moment (eqn:aM) and
 //! the integral term (eqn:eI).
 
-use crate::vec::{cmul, is_finite};
 use crate::{ControlError, RigidBodyParams};
+use lie::ops::{cmul, is_finite_vec as is_finite};
 use lie::{AttitudeErrors, Backend, Real, Rotation, S, V3};
 
 /// Attitude gains. The paper uses scalars; here `k_R`, `k_Ω`, `k_I` are

@@ -66,7 +66,6 @@ mod mode;
 mod mode_scheduler;
 pub mod paper;
 mod position_pid;
-mod vec;
 
 pub use attitude_pid::{
     AttitudeGains, AttitudeOutput, AttitudeReference, attitude_control, attitude_law,

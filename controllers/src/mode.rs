@@ -27,8 +27,8 @@ use crate::position_pid::{
     AccelerationModel, PositionGains, PositionReference, SatBranch, VehicleState, position_control,
     thrust_pd_projection,
 };
-use crate::vec::zero;
 use crate::{ControlError, RigidBodyParams};
+use lie::ops::zero;
 use lie::{Backend, Real, Rotation, S, So3Mat, V3};
 
 /// `t ↦ (R_d, Ω_d, Ω̇_d)`: the reference of an attitude-tracking law. Any

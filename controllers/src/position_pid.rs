@@ -4,9 +4,9 @@
 //! (eqn:M).
 
 use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_law};
-use crate::vec::{cmul, is_finite, norm, zero};
 use crate::{ControlError, RigidBodyParams};
 use lie::num_traits::Float;
+use lie::ops::{cmul, is_finite_vec as is_finite, norm, zero};
 use lie::{AttitudeErrors, Backend, Real, Rotation, S, SimdMask, SimdReal, V3};
 
 /// The comparison mask of a backend's scalar: `bool` for `f32`/`f64`.

@@ -18,6 +18,67 @@ pub struct RotorLimits<B: Backend> {
     pub max: S<B>,
 }
 
+/// What the quadrotor and the hexarotor share: `N` rotor thrusts mapped to
+/// the wrench through a 4×`N` allocation (rows `f, M1, M2, M3`), checked
+/// on the way in and out, clamped to per-rotor limits.
+mod rotors {
+    use super::RotorLimits;
+    use crate::{DynamicsError, Wrench};
+    use lie::num_traits::Float;
+    use lie::{Backend, S};
+
+    /// The wrench of thrusts `f` under allocation `a`, each row summed left
+    /// to right from its first product.
+    #[inline(always)]
+    pub(super) fn wrench<B: Backend, const N: usize>(
+        a: &[[S<B>; N]; 4],
+        f: &[S<B>; N],
+    ) -> Wrench<B> {
+        let row = |r: &[S<B>; N]| (1..N).fold(r[0] * f[0], |acc, k| acc + r[k] * f[k]);
+        Wrench {
+            thrust: row(&a[0]),
+            moment: B::vec3(row(&a[1]), row(&a[2]), row(&a[3])),
+        }
+    }
+
+    /// `u` as `N` finite rotor thrusts.
+    #[inline]
+    pub(super) fn read<B: Backend, const N: usize>(u: &[S<B>]) -> Result<[S<B>; N], DynamicsError> {
+        let f: [S<B>; N] = u.try_into().map_err(|_| DynamicsError::ActuatorCount {
+            expected: N,
+            got: u.len(),
+        })?;
+        if f.iter().any(|x| !x.is_finite()) {
+            return Err(DynamicsError::NonFinite {
+                field: "rotor thrusts",
+            });
+        }
+        Ok(f)
+    }
+
+    /// Writes `f` into `out`, which must hold exactly `N` thrusts.
+    #[inline]
+    pub(super) fn write<B: Backend, const N: usize>(
+        out: &mut [S<B>],
+        f: &[S<B>; N],
+    ) -> Result<(), DynamicsError> {
+        if out.len() != N {
+            return Err(DynamicsError::ActuatorCount {
+                expected: N,
+                got: out.len(),
+            });
+        }
+        out.copy_from_slice(f);
+        Ok(())
+    }
+
+    /// Each thrust clamped to `[min, max]`.
+    #[inline]
+    pub(super) fn clamp<B: Backend, const N: usize>(f: [S<B>; N], l: RotorLimits<B>) -> [S<B>; N] {
+        f.map(|x| x.max(l.min).min(l.max))
+    }
+}
+
 /// The paper's quadrotor (Section II): rotors 1–4 on the body axes `+b1`,
 /// `+b2`, `−b1`, `−b2` at arm length `d`, alternating spin directions with
 /// reaction-torque coefficient `c_τf`, fixed disturbances `Δ_x`, `Δ_R`.
@@ -181,12 +242,7 @@ impl<B: Backend> Quadrotor<B> {
     }
 
     fn wrench_of(&self, f: [S<B>; 4]) -> Wrench<B> {
-        let a = self.allocation();
-        let row = |r: [S<B>; 4]| r[0] * f[0] + r[1] * f[1] + r[2] * f[2] + r[3] * f[3];
-        Wrench {
-            thrust: row(a[0]),
-            moment: B::vec3(row(a[1]), row(a[2]), row(a[3])),
-        }
+        rotors::wrench(&self.allocation(), &f)
     }
 }
 
@@ -207,26 +263,10 @@ impl<B: Backend> Vehicle<B> for Quadrotor<B> {
         4
     }
     fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
-        let f: [S<B>; 4] = u.try_into().map_err(|_| DynamicsError::ActuatorCount {
-            expected: 4,
-            got: u.len(),
-        })?;
-        if f.iter().any(|x| !x.is_finite()) {
-            return Err(DynamicsError::NonFinite {
-                field: "rotor thrusts",
-            });
-        }
-        Ok(self.wrench_of(f))
+        Ok(self.wrench_of(rotors::read::<B, _>(u)?))
     }
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
-        if out.len() != 4 {
-            return Err(DynamicsError::ActuatorCount {
-                expected: 4,
-                got: out.len(),
-            });
-        }
-        out.copy_from_slice(&self.rotor_thrusts(w));
-        Ok(())
+        rotors::write::<B, _>(out, &self.rotor_thrusts(w))
     }
     /// Clamps each rotor's thrust to the limits and maps back; a plain clamp
     /// (no priority to attitude over thrust), which is what the hardware does
@@ -234,10 +274,7 @@ impl<B: Backend> Vehicle<B> for Quadrotor<B> {
     fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
         match self.limits {
             None => w,
-            Some(l) => {
-                let f = self.rotor_thrusts(&w).map(|x| x.max(l.min).min(l.max));
-                self.wrench_of(f)
-            }
+            Some(l) => self.wrench_of(rotors::clamp(self.rotor_thrusts(&w), l)),
         }
     }
     fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
@@ -502,12 +539,7 @@ impl<B: Backend> Hexarotor<B> {
     }
 
     fn wrench_of(&self, f: &[S<B>; 6]) -> Wrench<B> {
-        let a = self.allocation();
-        let row = |r: &[S<B>; 6]| (0..6).fold(S::<B>::zero(), |acc, k| acc + r[k] * f[k]);
-        Wrench {
-            thrust: row(&a[0]),
-            moment: B::vec3(row(&a[1]), row(&a[2]), row(&a[3])),
-        }
+        rotors::wrench(&self.allocation(), f)
     }
 }
 
@@ -528,36 +560,17 @@ impl<B: Backend> Vehicle<B> for Hexarotor<B> {
         6
     }
     fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
-        let f: [S<B>; 6] = u.try_into().map_err(|_| DynamicsError::ActuatorCount {
-            expected: 6,
-            got: u.len(),
-        })?;
-        if f.iter().any(|x| !x.is_finite()) {
-            return Err(DynamicsError::NonFinite {
-                field: "rotor thrusts",
-            });
-        }
-        Ok(self.wrench_of(&f))
+        Ok(self.wrench_of(&rotors::read::<B, _>(u)?))
     }
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
-        if out.len() != 6 {
-            return Err(DynamicsError::ActuatorCount {
-                expected: 6,
-                got: out.len(),
-            });
-        }
-        out.copy_from_slice(&self.rotor_thrusts(w));
-        Ok(())
+        rotors::write::<B, _>(out, &self.rotor_thrusts(w))
     }
     /// Clamps the minimum-norm rotor thrusts and maps back (no
     /// redistribution through the null space).
     fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
         match self.base.limits {
             None => w,
-            Some(l) => {
-                let f = self.rotor_thrusts(&w).map(|x| x.max(l.min).min(l.max));
-                self.wrench_of(&f)
-            }
+            Some(l) => self.wrench_of(&rotors::clamp(self.rotor_thrusts(&w), l)),
         }
     }
     fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {

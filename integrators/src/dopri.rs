@@ -109,52 +109,6 @@ impl<B: Backend> Dopri<B> {
     pub fn tolerance(&self) -> S<B> {
         self.rtol
     }
-
-    fn error_norm<const N: usize>(
-        &self,
-        body: &Body<B>,
-        y: &State<B, N>,
-        next: &State<B, N>,
-        err: &State<B, N>,
-    ) -> S<B> {
-        let mut sum = S::<B>::zero();
-        let mut count = 0usize;
-        let mut add = |e: S<B>, a: S<B>, b: S<B>| {
-            let sc = self.atol + self.rtol * a.abs().max(b.abs());
-            let r = e / sc;
-            sum += r * r;
-            count += 1;
-        };
-        let (ey, en, ee) = (
-            ops::elems::<B>(y.body.r),
-            ops::elems::<B>(next.body.r),
-            ops::elems::<B>(err.body.r),
-        );
-        for i in 0..3 {
-            for k in 0..3 {
-                add(ee[i][k], ey[i][k], en[i][k]);
-            }
-        }
-        let mut vecs = |a: lie::V3<B>, b: lie::V3<B>, e: lie::V3<B>| {
-            let (a, b, e) = (
-                B::vec3_to_array(a),
-                B::vec3_to_array(b),
-                B::vec3_to_array(e),
-            );
-            for i in 0..3 {
-                add(e[i], a[i], b[i]);
-            }
-        };
-        vecs(y.body.omega, next.body.omega, err.body.omega);
-        if body.translates {
-            vecs(y.body.x, next.body.x, err.body.x);
-            vecs(y.body.v, next.body.v, err.body.v);
-        }
-        for i in 0..N {
-            add(err.extra[i], y.extra[i], next.extra[i]);
-        }
-        (sum / S::<B>::lit(count as f64)).sqrt()
-    }
 }
 
 impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
@@ -197,7 +151,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
                 hs = remaining;
             }
             let (next, k7, err) = trial(sys, &body, &cur, &k1, &zero_state, (tc, hs), &mut stats)?;
-            let en = self.error_norm(&body, &cur, &next, &err);
+            let en = error_norm(self.atol, self.rtol, &body, (&cur, &next, &err));
             if !Float::is_finite(en) {
                 return Err(StepError::NonFinite {
                     field: "dopri error estimate",
@@ -257,12 +211,13 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
     }
 }
 
-/// [`Dopri`]'s error norm for any `SimdBackend` (the lane stepper's):
-/// the RMS over all components of `err_i / (atol + rtol·max(|y_i|, |y_new_i|))`
-/// (`x`, `v` only when the body translates), lane by lane on a lane
-/// backend: each lane's step is judged on its own components alone.
+/// [`Dopri`]'s error norm, one function for one lane and many (the scalar
+/// and the lane stepper's): the RMS over all components of
+/// `err_i / (atol + rtol·max(|y_i|, |y_new_i|))` (`x`, `v` only when the
+/// body translates), lane by lane on a lane backend: each lane's step is
+/// judged on its own components alone.
 #[inline(always)]
-pub(crate) fn error_norm_lanes<B: SimdBackend, const N: usize>(
+pub(crate) fn error_norm<B: SimdBackend, const N: usize>(
     atol: S<B>,
     rtol: S<B>,
     body: &Body<B>,

@@ -24,7 +24,7 @@ use lie::{Backend, M3, S, SimdBackend, SimdMask, SimdReal, ops};
 mod lgvi;
 pub use lgvi::LgviLanes;
 
-use crate::dopri::{error_norm_lanes, trial_lanes};
+use crate::dopri::{error_norm, trial_lanes};
 use crate::rk::{Body, Deriv, rk4_stages, rkmk4_stages};
 use crate::{Load, State};
 
@@ -408,7 +408,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             (&self.y, &self.k1, &zero),
             (self.t, hs),
         );
-        let mut en = error_norm_lanes(self.tol, self.tol, &b, (&self.y, &next, &err));
+        let mut en = error_norm(self.tol, self.tol, &b, (&self.y, &next, &err));
         let finite_en = en.simd_is_finite();
         // The live lane with the largest finite error, which decides a
         // shared step (a lane whose error is not finite fails on its own).

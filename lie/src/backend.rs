@@ -262,6 +262,13 @@ pub mod ops {
         let z = S::<B>::zero();
         B::vec3(z, z, z)
     }
+    /// Element-wise product `(a₁b₁, a₂b₂, a₃b₃)`: a diagonal matrix (per-axis
+    /// gains, a principal-axes inertia) times a vector in three products.
+    #[inline(always)]
+    pub fn cmul<B: SimdBackend>(a: V3<B>, b: V3<B>) -> V3<B> {
+        let (a, b) = (B::vec3_to_array(a), B::vec3_to_array(b));
+        B::vec3(a[0] * b[0], a[1] * b[1], a[2] * b[2])
+    }
     /// Euclidean norm.
     #[inline(always)]
     pub fn norm<B: SimdBackend>(v: V3<B>) -> S<B> {

@@ -20,8 +20,8 @@ use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S
 
 use crate::reference::{self, m, v};
 use crate::scene::{
-    AccelModel, AttitudeRef, BackendKind, PositionRef, Scalar, Scene, ThrustSpec, Timing,
-    VehicleKind,
+    AccelModel, AttitudeRef, BackendKind, GainsSpec, PositionRef, Scalar, Scene, ThrustSpec,
+    Timing, VehicleKind,
 };
 use crate::sim::{
     Control, RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until,
@@ -433,14 +433,29 @@ pub(crate) fn gains<B: Backend>(
     AttitudeGains<B>,
     AccelerationModel<B>,
 ) {
+    let (pg, ag, model) = controller_gains::<B>(&scene.gains);
+    (controller_params(scene, vehicle), pg, ag, model)
+}
+
+/// Mass, inertia and gravity as the scene's controller knows them: the
+/// scene's numbers, the vehicle's inertia (a kind may derive it).
+pub(crate) fn controller_params<B: Backend>(
+    scene: &Scene,
+    vehicle: &dyn Vehicle<B>,
+) -> RigidBodyParams<B> {
     let l = S::<B>::lit;
-    let g = &scene.gains;
-    let ve = &scene.vehicle;
-    let params = RigidBodyParams {
-        mass: l(ve.mass),
+    RigidBodyParams {
+        mass: l(scene.vehicle.mass),
         inertia: vehicle.inertia(),
-        gravity: l(ve.gravity),
-    };
+        gravity: l(scene.vehicle.gravity),
+    }
+}
+
+/// The laws' gains and acceleration model from a scene's `[gains]`.
+pub(crate) fn controller_gains<B: Backend>(
+    g: &GainsSpec,
+) -> (PositionGains<B>, AttitudeGains<B>, AccelerationModel<B>) {
+    let l = S::<B>::lit;
     let mut pg = PositionGains::<B>::uniform(l(g.k_x), l(g.k_v), l(g.k_i), l(g.c1), l(g.sigma));
     pg.clamp_integral = g.clamp_integral;
     let ag = AttitudeGains::<B>::uniform(l(g.k_r), l(g.k_omega), l(g.k_att_i), l(g.c2));
@@ -448,7 +463,7 @@ pub(crate) fn gains<B: Backend>(
         AccelModel::Nominal => AccelerationModel::Nominal,
         AccelModel::NominalWithoutEstimate => AccelerationModel::NominalWithoutEstimate,
     };
-    (params, pg, ag, model)
+    (pg, ag, model)
 }
 
 /// The scene's plan as [`Mode`](controllers::Mode)s. The paper's modes share the integral

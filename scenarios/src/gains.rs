@@ -55,22 +55,16 @@ pub struct SceneBounds {
     pub samples: usize,
 }
 
+/// What a run of `scene` gives its controller, so that the conditions are
+/// checked on the numbers that fly.
 fn params(scene: &Scene) -> Result<RigidBodyParams<B>, SimError> {
     let v = crate::build_vehicle::<B>(scene)?;
-    Ok(RigidBodyParams {
-        mass: scene.vehicle.mass,
-        inertia: v.inertia(),
-        gravity: scene.vehicle.gravity,
-    })
+    Ok(crate::from_scene::controller_params(scene, v.as_ref()))
 }
 
 fn gains_of(g: &GainsSpec) -> (PositionGains<B>, AttitudeGains<B>) {
-    let mut pg = PositionGains::<B>::uniform(g.k_x, g.k_v, g.k_i, g.c1, g.sigma);
-    pg.clamp_integral = g.clamp_integral;
-    (
-        pg,
-        AttitudeGains::<B>::uniform(g.k_r, g.k_omega, g.k_att_i, g.c2),
-    )
+    let (pg, ag, _) = crate::from_scene::controller_gains::<B>(g);
+    (pg, ag)
 }
 
 /// B1, B2, δ_x of `scene` (module docs).

@@ -4,7 +4,6 @@
 //! with the law under test).
 
 use super::*;
-use crate::vec::unit_derivs;
 use lie::vee;
 
 /// The first implementation of [`position_control`] (full derivative
@@ -233,4 +232,21 @@ fn check_inputs<B: Backend, R: Rotation<B>>(
         });
     }
     Ok(())
+}
+
+/// `u/|u|` and its first two time derivatives given `u, u̇, ü`:
+/// `ḃ = u̇/n − u (u·u̇)/n³`,
+/// `b̈ = ü/n − (2u̇ (u·u̇) + u (u̇·u̇ + u·ü))/n³ + 3u (u·u̇)²/n⁵`:
+/// the textbook form the law's projected derivatives are checked against.
+fn unit_derivs<B: Backend>(u: V3<B>, ud: V3<B>, udd: V3<B>) -> (V3<B>, V3<B>, V3<B>) {
+    let n = norm::<B>(u);
+    let inv = S::<B>::lit(1.0) / n;
+    let inv3 = inv * inv * inv;
+    let uud = B::dot(u, ud);
+    let b = u * inv;
+    let bd = ud * inv - u * (uud * inv3);
+    let bdd = udd * inv
+        - (ud * (S::<B>::lit(2.0) * uud) + u * (B::dot(ud, ud) + B::dot(u, udd))) * inv3
+        + u * (S::<B>::lit(3.0) * uud * uud * inv3 * inv * inv);
+    (b, bd, bdd)
 }
