@@ -15,9 +15,12 @@ and test code (`#[cfg(test)]` items, `tests.rs`, `tests/`) is left out.
 Prints every circle (strongly connected component of two or more
 siblings) with one edge that closes it, and exits 1 if there is any;
 `--graph` also prints every edge, `--dot FILE` writes the graph for
-Graphviz.
+Graphviz (the crates and their normal dependencies, then each crate's
+modules), and `--check-dot FILE` fails when FILE is not what `--dot` would
+write now (CI keeps docs/modules.dot current; docs/modules.svg is
+`dot -Tsvg docs/modules.dot`).
 
-    python3 scripts/modgraph.py [--graph] [--dot FILE] [crate …]
+    python3 scripts/modgraph.py [--graph] [--dot FILE | --check-dot FILE] [crate …]
 """
 import os
 import re
@@ -185,14 +188,38 @@ def circles(pairs):
     return out
 
 
+def crate_deps(crate):
+    """The workspace crates `crate` names under [dependencies] (normal
+    dependencies only: dev and build dependencies are not layers)."""
+    deps, section = [], None
+    with open(os.path.join(ROOT, crate, "Cargo.toml"), encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            if line.startswith("["):
+                section = line
+                continue
+            name = line.split("=", 1)[0].strip()
+            if section == "[dependencies]" and name in CRATES and name != crate:
+                deps.append(name)
+    return deps
+
+
 def main(argv):
     show = "--graph" in argv
-    dot = None
-    if "--dot" in argv:
-        dot = argv[argv.index("--dot") + 1]
-        argv = [a for a in argv if a not in ("--dot", dot)]
+    dot, check = None, None
+    for flag in ("--dot", "--check-dot"):
+        if flag in argv:
+            value = argv[argv.index(flag) + 1]
+            argv = [a for a in argv if a not in (flag, value)]
+            dot, check = (value, check) if flag == "--dot" else (dot, value)
     crates = [a for a in argv if not a.startswith("--")] or CRATES
     found, lines = 0, ["digraph modules {", "  rankdir=LR; node [shape=box, fontsize=10];"]
+    lines.append('  subgraph "cluster_crates" { label="crates (normal dependencies)";')
+    for crate in crates:
+        lines.append(f'    "{crate}" [style=bold];')
+        for dep in crate_deps(crate):
+            lines.append(f'    "{crate}" -> "{dep}";')
+    lines.append("  }")
     for crate in crates:
         edges = crate_graph(crate)
         if edges is None:
@@ -211,9 +238,17 @@ def main(argv):
                       + ", ".join(f"{a} -> {b}" for a, b in inner) + ")")
         lines.append("  }")
     lines.append("}")
+    text = "\n".join(lines) + "\n"
     if dot:
         with open(dot, "w", encoding="utf-8") as f:
-            f.write("\n".join(lines) + "\n")
+            f.write(text)
+    if check:
+        with open(check, encoding="utf-8") as f:
+            if f.read() != text:
+                print(f"{check} is not the current module graph: "
+                      f"python3 scripts/modgraph.py --dot {check} && dot -Tsvg {check} -o {check[:-4]}.svg")
+                return 1
+        print(f"{check} is the current module graph")
     if found:
         print(f"{found} import circle(s)")
         return 1
