@@ -146,11 +146,18 @@ impl Scene {
 
     /// A scene from a dict in the scene schema (nested dicts for tables,
     /// lists for arrays); it is turned into TOML first so that it is
-    /// checked exactly as a file.
+    /// checked exactly as a file. A dict is written against this version,
+    /// so one without `format` is taken as the current format (a file
+    /// without it gets a note; a dict does not); a `format` it has is
+    /// checked as in a file.
     #[staticmethod]
     #[pyo3(signature = (d, origin = "<dict>"))]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>, origin: &str) -> PyResult<Self> {
-        let table = to_toml(d.as_any(), "")?;
+        let mut table = to_toml(d.as_any(), "")?;
+        if let toml::Value::Table(t) = &mut table {
+            t.entry("format")
+                .or_insert(toml::Value::Integer(scenarios::scene::SCENE_FORMAT.into()));
+        }
         let text = toml::to_string(&table).map_err(|e| {
             scene_error(py, &RsSceneError::at_key("scene", format!("{origin}: {e}")))
         })?;

@@ -7,6 +7,7 @@ use dynamics::DrydenSpec;
 
 fn base(name: &str, description: &str, duration: f64) -> Scene {
     Scene {
+        format: Some(SCENE_FORMAT),
         name: name.into(),
         description: description.into(),
         duration,

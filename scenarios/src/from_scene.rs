@@ -389,7 +389,7 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
     body.x = v::<B>(i.x);
     body.v = v::<B>(i.v);
     let floor = integrators::Dopri::<B>::floor().to_f64_lossless();
-    let warning = (kind == integrators::IntegratorKind::Dopri && scene.integrator.tol < floor)
+    let tol_warning = (kind == integrators::IntegratorKind::Dopri && scene.integrator.tol < floor)
         .then(|| {
             format!(
                 "dopri tolerance {:e} is below what {} can deliver; using its ε = {floor:.2e}",
@@ -397,6 +397,11 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
                 if floor > 1e-10 { "f32" } else { "f64" }
             )
         });
+    let format_note = scene
+        .format
+        .is_none()
+        .then(crate::scene::missing_format_note);
+    let warning = format_note.into_iter().chain(tol_warning);
     let mut b = Simulation::<B, N>::builder(vehicle)
         .integrator(stepper)
         .initial(body)

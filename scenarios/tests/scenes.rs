@@ -418,3 +418,60 @@ fn every_scene_serialises() {
     let back = Scene::from_toml_with_kinds(&custom.to_toml(), "c.toml", &["heavy"]).unwrap();
     assert_eq!(back, custom);
 }
+
+/// The scene format: `format = 1` reads; a newer format is refused naming
+/// the version; a value that is not the integer 1 is refused naming the key
+/// and the value; a file without the key runs as format 1 with a note in
+/// the run's warnings (and nowhere else); a scene written out says
+/// `format = 1`.
+#[test]
+fn the_scene_format_is_checked_and_written() {
+    let body = "name = \"x\"\nduration = 0.02\n[integrator]\nkind = \"rk4\"\ndt = 0.01\n";
+    let with = |f: &str| format!("format = {f}\n{body}");
+    let scene = Scene::from_toml(&with("1"), "ok.toml").unwrap();
+    assert_eq!(scene.format, Some(scenarios::scene::SCENE_FORMAT));
+    let out = run(&scene, RunOptions::default()).unwrap();
+    assert!(out.warnings.is_empty(), "{:?}", out.warnings);
+
+    let msg = Scene::from_toml(&with("2"), "new.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.starts_with("new.toml:1:") && msg.contains("format = 2") && msg.contains("newer"),
+        "{msg}"
+    );
+    for (value, shown) in [
+        ("0", "format = 0"),
+        ("\"1\"", "format = \"1\""),
+        ("1.5", "format = 1.5"),
+        ("-3", "format = -3"),
+    ] {
+        let msg = Scene::from_toml(&with(value), "bad.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.starts_with("bad.toml:1:")
+                && msg.contains(shown)
+                && msg.contains("expected the integer 1"),
+            "{value}: {msg}"
+        );
+    }
+
+    let old = Scene::from_toml(body, "old.toml").unwrap();
+    assert_eq!(old.format, None);
+    let out = run(&old, RunOptions::default()).unwrap();
+    assert_eq!(
+        out.warnings,
+        vec![scenarios::scene::missing_format_note()],
+        "the missing key is a note in the run's warnings"
+    );
+    assert!(
+        old.to_toml().starts_with("format = 1\n"),
+        "{}",
+        old.to_toml()
+    );
+    for s in builtin::all() {
+        assert!(s.to_toml().starts_with("format = 1\n"), "{}", s.name);
+        assert_eq!(Scene::from_toml(&s.to_toml(), "rt.toml").unwrap(), s);
+    }
+}

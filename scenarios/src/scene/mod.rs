@@ -6,10 +6,12 @@ use controllers::paper as paper_gains;
 use dynamics::{MultirotorParams, paper};
 use serde::{Deserialize, Serialize};
 
+mod format;
 mod locate;
 mod validate;
 mod wind;
 
+pub use format::{SCENE_FORMAT, missing_format_note};
 use locate::{line_col, locate_error};
 pub use wind::WindSpec;
 
@@ -18,6 +20,17 @@ pub use wind::WindSpec;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
+    /// The scene format the file was written for: `Some(SCENE_FORMAT)`,
+    /// or `None` for a file without a `format` key, which is read as
+    /// format 1 with a note in the run's warnings. A file of a newer
+    /// format, or a `format` that is not a positive integer, is refused
+    /// naming the key and the value. Always written as `format = 1`.
+    #[serde(
+        default,
+        deserialize_with = "format::read",
+        serialize_with = "format::write"
+    )]
+    pub format: Option<u32>,
     /// Short name (`paper-flip`).
     pub name: String,
     /// What the scene shows.
