@@ -14,7 +14,7 @@
 use controllers::{AttitudeGains, AttitudeReference, RigidBodyParams, attitude_control};
 use dynamics::{AttitudeStand, Quadrotor, RigidBodyState, Vehicle, Wrench, loads};
 use integrators::{Integrator, Lgvi, Load, State, System};
-use lie::{Backend, M3, NalgebraF64, Rotation, S, So3Mat, V3};
+use lie::{M3, NalgebraF64, Rotation, S, So3Mat, V3};
 
 type B = NalgebraF64;
 
@@ -28,10 +28,10 @@ struct StandLoop {
 }
 
 fn rx(a: f64) -> So3Mat<B> {
-    So3Mat::exp(<B as Backend>::vec3(a, 0.0, 0.0))
+    So3Mat::exp(B::vec3(a, 0.0, 0.0))
 }
 fn ry(a: f64) -> So3Mat<B> {
-    So3Mat::exp(<B as Backend>::vec3(0.0, a, 0.0))
+    So3Mat::exp(B::vec3(0.0, a, 0.0))
 }
 
 /// R_d = R_y(θ) R_x(φ) with Ω_d = φ̇ e1 + θ̇ R_x(φ)ᵀe2 and its derivative.
@@ -41,8 +41,8 @@ fn reference(t: f64) -> AttitudeReference<B, So3Mat<B>> {
     let (s, c) = (PI * t).sin_cos();
     let (phi, phid, phidd) = (a * s, a * PI * c, -a * PI * PI * s);
     let (th, thd, thdd) = (a * c, -a * PI * s, -a * PI * PI * c);
-    let e1 = <B as Backend>::vec3(1.0, 0.0, 0.0);
-    let e2r = rx(phi).inverse_act(<B as Backend>::vec3(0.0, 1.0, 0.0));
+    let e1 = B::vec3(1.0, 0.0, 0.0);
+    let e2r = rx(phi).inverse_act(B::vec3(0.0, 1.0, 0.0));
     AttitudeReference {
         rd: ry(th) * rx(phi),
         omega_d: e1 * phid + e2r * thd,
@@ -52,7 +52,7 @@ fn reference(t: f64) -> AttitudeReference<B, So3Mat<B>> {
 
 impl StandLoop {
     fn command(&self, t: f64, y: &State<B, 3>) -> (Wrench<B>, V3<B>, f64) {
-        let e_i = <B as Backend>::vec3(y.extra[0], y.extra[1], y.extra[2]);
+        let e_i = B::vec3(y.extra[0], y.extra[1], y.extra[2]);
         let out = attitude_control(
             &self.params,
             &self.gains,

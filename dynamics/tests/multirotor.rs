@@ -15,7 +15,7 @@
 //! each term where the vehicle is defined, so a broken term fails here.
 
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState, RotorSpeedInput, Vehicle, Wrench};
-use lie::{Backend, NalgebraF64, So3Mat};
+use lie::{NalgebraF64, So3Mat};
 
 type B = NalgebraF64;
 type A3 = [f64; 3];
@@ -65,7 +65,7 @@ fn params(rotors: usize) -> MultirotorParams<B> {
             .iter()
             .enumerate()
             .map(|(k, &(a, r)): (usize, &(f64, f64))| dynamics::Rotor {
-                position: <B as Backend>::vec3(r * a.cos(), r * a.sin(), 0.01 * k as f64),
+                position: B::vec3(r * a.cos(), r * a.sin(), 0.01 * k as f64),
                 direction: if k % 2 == 0 { 1.0 } else { -1.0 },
             })
             .collect();
@@ -75,7 +75,7 @@ fn params(rotors: usize) -> MultirotorParams<B> {
             .map(|k| {
                 let a = k as f64 * std::f64::consts::PI / 3.0;
                 dynamics::Rotor {
-                    position: <B as Backend>::vec3(0.2 * a.cos(), 0.2 * a.sin(), -0.01),
+                    position: B::vec3(0.2 * a.cos(), 0.2 * a.sin(), -0.01),
                     direction: if k % 2 == 0 { 1.0 } else { -1.0 },
                 }
             })
@@ -141,8 +141,8 @@ fn body_wrench_is_the_models_term_by_term() {
             let (omega, va) = (rng.v(4.0), rng.v(8.0));
             let (f, m) = v.body_wrench(
                 &speeds,
-                <B as Backend>::vec3(omega[0], omega[1], omega[2]),
-                <B as Backend>::vec3(va[0], va[1], va[2]),
+                B::vec3(omega[0], omega[1], omega[2]),
+                B::vec3(va[0], va[1], va[2]),
             );
             let (fr, mr) = reference(&p, &speeds, omega, va);
             let e = rel(arr(f), fr).max(rel(arr(m), mr));
@@ -162,24 +162,24 @@ fn body_wrench_is_the_models_term_by_term() {
 fn loads_add_gravity_the_rotated_body_force_and_the_disturbance() {
     let p = params(4);
     let d = dynamics::Disturbance::<B> {
-        force: <B as Backend>::vec3(-0.5, 0.2, 1.0),
-        moment: <B as Backend>::vec3(0.2, -0.1, -0.02),
+        force: B::vec3(-0.5, 0.2, 1.0),
+        moment: B::vec3(0.2, -0.1, -0.02),
     };
     let v = Multirotor::new(p.clone()).unwrap().with_disturbance(d);
-    let r = So3Mat::<B>::exp(<B as Backend>::vec3(0.3, -0.4, 1.1));
+    let r = So3Mat::<B>::exp(B::vec3(0.3, -0.4, 1.1));
     let state = RigidBodyState::<B> {
         r: r.as_matrix(),
-        x: <B as Backend>::vec3(1.0, 2.0, -3.0),
-        v: <B as Backend>::vec3(2.0, -1.0, 0.5),
-        omega: <B as Backend>::vec3(0.4, -0.2, 0.9),
+        x: B::vec3(1.0, 2.0, -3.0),
+        v: B::vec3(2.0, -1.0, 0.5),
+        omega: B::vec3(0.4, -0.2, 0.9),
     };
-    let wind = <B as Backend>::vec3(-3.0, 1.0, 0.2);
+    let wind = B::vec3(-3.0, 1.0, 0.2);
     let speeds = [800.0, 820.0, 790.0, 810.0];
     let l = v.loads_at(&state, &speeds, wind);
     let rm = r.as_matrix();
     let va = rm.transpose() * (state.v - wind);
     let (fb, mb) = reference(&p, &speeds, arr(state.omega), arr(va));
-    let fi = rm * <B as Backend>::vec3(fb[0], fb[1], fb[2]);
+    let fi = rm * B::vec3(fb[0], fb[1], fb[2]);
     let force = [fi[0] - 0.5, fi[1] + 0.2, fi[2] + 1.0 + p.mass * p.gravity];
     let moment = [mb[0] + 0.2, mb[1] - 0.1, mb[2] - 0.02];
     let e = rel(arr(l.force), force).max(rel(arr(l.moment), moment));
@@ -202,11 +202,7 @@ fn thrusts_speeds_and_the_allocation_inverse() {
         for _ in 0..100 {
             let w = Wrench::<B> {
                 thrust: 5.0 + rng.next(),
-                moment: <B as Backend>::vec3(
-                    0.05 * rng.next(),
-                    0.05 * rng.next(),
-                    0.01 * rng.next(),
-                ),
+                moment: B::vec3(0.05 * rng.next(), 0.05 * rng.next(), 0.01 * rng.next()),
             };
             let mut u = vec![0.0; rotors];
             v.actuators_from_wrench(&w, &mut u).unwrap();
@@ -262,7 +258,7 @@ fn lagged_rotors_apply_their_own_speeds() {
     let states = [600.0, 650.0, 700.0, 750.0];
     let cmd = Wrench::<B> {
         thrust: 6.0,
-        moment: <B as Backend>::vec3(0.1, 0.0, 0.0),
+        moment: B::vec3(0.1, 0.0, 0.0),
     };
     let w = v.applied_wrench(&cmd, &states);
     let (f, m) = reference(&p, &states, [0.0; 3], [0.0; 3]);
@@ -273,7 +269,7 @@ fn lagged_rotors_apply_their_own_speeds() {
     let input = RotorSpeedInput {
         speeds: &speeds,
         states: &states,
-        wind: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        wind: B::vec3(0.0, 0.0, 0.0),
     };
     v.loads_at_rotor_speeds(0.0, &st, input, &mut rates)
         .unwrap();
@@ -331,7 +327,7 @@ fn counts_and_the_lagless_loads_follow_the_rotors() {
         assert_eq!(v.state_count(), 0);
         let hover = Wrench::<B> {
             thrust: p.mass * p.gravity,
-            moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+            moment: B::vec3(0.0, 0.0, 0.0),
         };
         let l = v.total_loads(0.0, &RigidBodyState::<B>::at_rest(), &hover, &[]);
         assert!(

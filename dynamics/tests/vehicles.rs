@@ -55,7 +55,7 @@ fn allocation_determinant_and_inverse() {
     for _ in 0..1000 {
         let w = Wrench::<B> {
             thrust: 8.0 * next(),
-            moment: <B as Backend>::vec3(next(), next(), 0.1 * next()),
+            moment: B::vec3(next(), next(), 0.1 * next()),
         };
         let mut f = [0.0; 4];
         q.actuators_from_wrench(&w, &mut f).unwrap();
@@ -130,7 +130,7 @@ fn rotor_positions_and_spin_directions_are_the_papers() {
     let mut f = [0.0; 4];
     let yaw = Wrench::<B> {
         thrust: 4.0,
-        moment: <B as Backend>::vec3(0.0, 0.0, 0.01),
+        moment: B::vec3(0.0, 0.0, 0.01),
     };
     q.actuators_from_wrench(&yaw, &mut f).unwrap();
     assert!(
@@ -146,7 +146,7 @@ fn rotor_limits_clamp_each_rotor() {
         .unwrap();
     let w = Wrench::<B> {
         thrust: 7.0,
-        moment: <B as Backend>::vec3(0.6, -0.2, 0.05),
+        moment: B::vec3(0.6, -0.2, 0.05),
     };
     let mut raw = [0.0; 4];
     q.actuators_from_wrench(&w, &mut raw).unwrap();
@@ -186,10 +186,9 @@ fn hover_loads_balance_and_disturbance_adds() {
     assert_eq!(l.moment, d.moment);
     // Thrust acts along −R e3: rolled 90° about b1, it pushes along +e2·(…)
     let mut rolled = s;
-    rolled.r =
-        So3Mat::<B>::exp(<B as Backend>::vec3(std::f64::consts::FRAC_PI_2, 0.0, 0.0)).matrix();
+    rolled.r = So3Mat::<B>::exp(B::vec3(std::f64::consts::FRAC_PI_2, 0.0, 0.0)).matrix();
     let l = loads(&q, 0.0, &rolled, &hover);
-    let expect = <B as Backend>::vec3(0.0, hover.thrust, q.mass() * q.gravity());
+    let expect = B::vec3(0.0, hover.thrust, q.mass() * q.gravity());
     assert!(ops::norm::<B>(l.force - expect) < 1e-12, "{:?}", l.force);
 }
 
@@ -199,9 +198,9 @@ fn stand_gravity_tips_the_body_over_and_it_cannot_translate() {
     assert!(!stand.translates());
     let (m, g, l) = (stand.mass(), stand.gravity(), 0.05);
     for axis in [
-        <B as Backend>::vec3(1.0, 0.0, 0.0),
-        <B as Backend>::vec3(0.0, 1.0, 0.0),
-        <B as Backend>::vec3(0.6, 0.8, 0.0),
+        B::vec3(1.0, 0.0, 0.0),
+        B::vec3(0.0, 1.0, 0.0),
+        B::vec3(0.6, 0.8, 0.0),
     ] {
         let tilt = 0.2;
         let r = So3Mat::<B>::from_axis_angle(axis, tilt).matrix();
@@ -264,7 +263,7 @@ fn bad_parameters_are_named_errors() {
     let e = Quadrotor::<B>::new(1.0, j, f64::NAN, 0.2, 0.01).unwrap_err();
     assert!(e.to_string().contains("gravity"), "{e}");
     let nan = dynamics::Disturbance::<B> {
-        force: <B as Backend>::vec3(f64::NAN, 0.0, 0.0),
+        force: B::vec3(f64::NAN, 0.0, 0.0),
         moment: ops::zero::<B>(),
     };
     let e = Quadrotor::<B>::paper().with_disturbance(nan).unwrap_err();
@@ -278,11 +277,11 @@ fn f32_glam_matches_f64() {
     let q64 = Quadrotor::<B>::paper();
     let w32 = Wrench::<GlamF32> {
         thrust: 7.2,
-        moment: <GlamF32 as Backend>::vec3(0.1, -0.05, 0.01),
+        moment: GlamF32::vec3(0.1, -0.05, 0.01),
     };
     let w64 = Wrench::<B> {
         thrust: 7.2,
-        moment: <B as Backend>::vec3(0.1, -0.05, 0.01),
+        moment: B::vec3(0.1, -0.05, 0.01),
     };
     let (mut a, mut b) = ([0.0f32; 4], [0.0f64; 4]);
     q32.actuators_from_wrench(&w32, &mut a).unwrap();
@@ -304,7 +303,7 @@ fn hexarotor_minimum_norm_allocation() {
     let a = h.allocation();
     let w = Wrench::<B> {
         thrust: 7.0,
-        moment: <B as Backend>::vec3(0.3, -0.2, 0.04),
+        moment: B::vec3(0.3, -0.2, 0.04),
     };
     let mut f = [0.0; 6];
     h.actuators_from_wrench(&w, &mut f).unwrap();
@@ -413,15 +412,15 @@ fn gravity_thrust_and_disturbances_have_the_papers_signs() {
         .unwrap();
     let theta: f64 = 0.4;
     let state = RigidBodyState::<B> {
-        r: So3Mat::<B>::exp(<B as Backend>::vec3(0.0, theta, 0.0)).as_matrix(),
-        x: <B as Backend>::vec3(0.0, 0.0, 0.0),
-        v: <B as Backend>::vec3(0.0, 0.0, 0.0),
-        omega: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        r: So3Mat::<B>::exp(B::vec3(0.0, theta, 0.0)).as_matrix(),
+        x: B::vec3(0.0, 0.0, 0.0),
+        v: B::vec3(0.0, 0.0, 0.0),
+        omega: B::vec3(0.0, 0.0, 0.0),
     };
     let (f, m) = (7.0, [0.01, -0.02, 0.003]);
     let w = Wrench::<B> {
         thrust: f,
-        moment: <B as Backend>::vec3(m[0], m[1], m[2]),
+        moment: B::vec3(m[0], m[1], m[2]),
     };
     let l = loads(&q, 0.0, &state, &w);
     let (mass, g) = (0.755, 9.81);
@@ -442,8 +441,8 @@ fn gravity_thrust_and_disturbances_have_the_papers_signs() {
     }
     // Hover: thrust m g at R = I balances gravity and nothing else.
     let hover = q.with_disturbance(dynamics::Disturbance {
-        force: <B as Backend>::vec3(0.0, 0.0, 0.0),
-        moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+        force: B::vec3(0.0, 0.0, 0.0),
+        moment: B::vec3(0.0, 0.0, 0.0),
     });
     let l = loads(
         &hover.unwrap(),
@@ -451,7 +450,7 @@ fn gravity_thrust_and_disturbances_have_the_papers_signs() {
         &RigidBodyState::<B>::at_rest(),
         &Wrench::<B> {
             thrust: mass * g,
-            moment: <B as Backend>::vec3(0.0, 0.0, 0.0),
+            moment: B::vec3(0.0, 0.0, 0.0),
         },
     );
     assert!(ops::norm::<B>(l.force) < 1e-15);

@@ -7,7 +7,7 @@ use dynamics::RigidBodyState;
 use integrators::{
     Dopri, EndLoad, Integrator, Lgvi, Load, State, StepError, Stepper, StepperConfig, System,
 };
-use lie::{Backend, NalgebraF64, V3, ops};
+use lie::{NalgebraF64, V3, ops};
 
 type B = NalgebraF64;
 

@@ -18,7 +18,7 @@ use dynamics::{Quadrotor, RigidBodyState, Vehicle, Wrench, loads};
 use integrators::{
     Dopri, EndLoad, Euler, Integrator, Lgvi, Load, Rk4, Rkmk4, State, System, integrate_fixed,
 };
-use lie::{Backend, M3, NalgebraF64, S, So3Mat, V3, ops};
+use lie::{M3, NalgebraF64, S, So3Mat, V3, ops};
 
 type B = NalgebraF64;
 
@@ -34,7 +34,7 @@ struct ClosedLoop {
 fn reference(t: f64) -> PositionReference<B> {
     let (r, w) = (0.5, 1.5);
     let (s, c) = (w * t).sin_cos();
-    let v3 = |x: f64, y: f64, z: f64| <B as Backend>::vec3(x, y, z);
+    let v3 = |x: f64, y: f64, z: f64| B::vec3(x, y, z);
     let mut p = PositionReference::<B>::hold(v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0));
     p.x = v3(r * c, r * s, -1.0 + 0.2 * s);
     p.v = v3(-r * w * s, r * w * c, 0.2 * w * c);
@@ -45,10 +45,7 @@ fn reference(t: f64) -> PositionReference<B> {
 }
 
 fn split(e: &[f64; 6]) -> (V3<B>, V3<B>) {
-    (
-        <B as Backend>::vec3(e[0], e[1], e[2]),
-        <B as Backend>::vec3(e[3], e[4], e[5]),
-    )
+    (B::vec3(e[0], e[1], e[2]), B::vec3(e[3], e[4], e[5]))
 }
 
 impl System<B, 6> for ClosedLoop {

@@ -9,12 +9,12 @@
 use dynamics::RigidBodyState;
 use integrators::State;
 use integrators::dense::{Rates, interpolate};
-use lie::{Backend, NalgebraF64, So3Mat, V3, right_jacobian};
+use lie::{NalgebraF64, So3Mat, V3, right_jacobian};
 
 type B = NalgebraF64;
 
 fn v(a: [f64; 3]) -> V3<B> {
-    <B as Backend>::vec3(a[0], a[1], a[2])
+    B::vec3(a[0], a[1], a[2])
 }
 
 /// `c0 + c1 t + c2 t² + c3 t³` per component, and its first and second

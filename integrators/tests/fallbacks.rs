@@ -3,7 +3,7 @@
 
 use dynamics::{DynamicsError, RigidBodyState, check_inertia};
 use integrators::{Integrator, Load, Rk4, State, StepError, System};
-use lie::{Backend, NalgebraF64, V3, ops};
+use lie::{NalgebraF64, V3, ops};
 
 type B = NalgebraF64;
 

@@ -19,7 +19,7 @@ use integrators::lanes::{
     state_lane,
 };
 use integrators::{Dopri, EndLoad, Integrator, Lgvi, Load, Rk4, Rkmk4, State, System};
-use lie::{Backend, M3, NalgebraF64, NalgebraF64x4, S, SimdBackend, SimdReal, So3Mat, ops};
+use lie::{M3, NalgebraF64, NalgebraF64x4, S, SimdBackend, SimdReal, So3Mat, ops};
 
 type E = NalgebraF64;
 type L = NalgebraF64x4;
@@ -89,7 +89,7 @@ impl System<E, 1> for Spring<E> {
 /// different sizes (lane 3 fast enough to need small steps).
 fn start(i: usize) -> State<E, 1> {
     let k = i as f64;
-    let v = |a: f64, b: f64, c: f64| <E as Backend>::vec3(a, b, c);
+    let v = |a: f64, b: f64, c: f64| E::vec3(a, b, c);
     State::new(RigidBodyState {
         r: So3Mat::<E>::exp(v(0.3 + 0.8 * k, -0.2 * k, 0.1)).as_matrix(),
         x: v(1.0 - k, 0.5, 0.2 * k),
@@ -106,7 +106,7 @@ fn bits(y: &State<E, 1>) -> Vec<u64> {
         .map(|x| x.to_bits())
         .collect();
     for v in [b.x, b.v, b.omega] {
-        out.extend(<E as Backend>::vec3_to_array(v).map(f64::to_bits));
+        out.extend(E::vec3_to_array(v).map(f64::to_bits));
     }
     out.push(y.extra[0].to_bits());
     out

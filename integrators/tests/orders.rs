@@ -97,8 +97,8 @@ fn free_rigid_body_orders_against_the_exact_solution() {
 
 fn heavy_start() -> State<B, 0> {
     let mut y = free_start::<B>();
-    y.body.r = So3Mat::<B>::exp(<B as lie::Backend>::vec3(0.6, -0.3, 0.2)).matrix();
-    y.body.omega = <B as lie::Backend>::vec3(0.3, -0.5, 0.8);
+    y.body.r = So3Mat::<B>::exp(B::vec3(0.6, -0.3, 0.2)).matrix();
+    y.body.omega = B::vec3(0.3, -0.5, 0.8);
     y
 }
 
@@ -184,7 +184,7 @@ fn exact_free_body_holds_at_100_rad_per_s() {
     let body = dynamics::FreeRigidBody::<B>::diag123();
     let mut sys = integrators::OpenLoop::new(&body, dynamics::Wrench::zero());
     let mut y = free_start::<B>();
-    y.body.omega = <B as lie::Backend>::vec3(omega0[0], omega0[1], omega0[2]);
+    y.body.omega = B::vec3(omega0[0], omega0[1], omega0[2]);
     let (t_end, n) = (2.0, 200_000);
     integrators::integrate_fixed(&mut Rkmk4, &mut sys, 0.0, t_end / n as f64, n, &mut y).unwrap();
     let err = state_error::<B, 0>(&y, ex.attitude(t_end), ex.omega(t_end));

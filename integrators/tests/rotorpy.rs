@@ -22,7 +22,7 @@ use std::process::Command;
 
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState};
 use integrators::{Dopri, Integrator, Load, State, System};
-use lie::{Backend, M3, NalgebraF64, S, V3, ops};
+use lie::{M3, NalgebraF64, S, V3, ops};
 
 type B = NalgebraF64;
 

@@ -242,7 +242,7 @@ na_hand!(na64, f64, 1e-3, 0.5, 1e-8);
 macro_rules! bench_pair {
     ($c:expr, $backend:ty, $hand:ident, $v:expr, $w:expr) => {{
         type B = $backend;
-        let name = <B as lie::Backend>::NAME;
+        let name = <B as lie::SimdBackend>::NAME;
         let phi = $v;
         let v = $w;
         let r = So3Mat::<B>::exp(phi);
@@ -392,7 +392,7 @@ macro_rules! bench_native {
         type B = $backend;
         type G = lie::$repr<B>;
         type V = lie::V3<B>;
-        let name = format!("{} {}", <B as lie::Backend>::NAME, stringify!($repr));
+        let name = format!("{} {}", <B as lie::SimdBackend>::NAME, stringify!($repr));
         // The backend's calls stay closures (not `fn` pointers) so that
         // they inline as the `lie` side does.
         let new = |v: V| -> $native { $new(v) };
@@ -464,7 +464,11 @@ macro_rules! bench_se3 {
         type B = $backend;
         type G = lie::Se3<B, lie::$repr<B>>;
         type V = lie::V3<B>;
-        let name = format!("{} Se3<{}>", <B as lie::Backend>::NAME, stringify!($repr));
+        let name = format!(
+            "{} Se3<{}>",
+            <B as lie::SimdBackend>::NAME,
+            stringify!($repr)
+        );
         let to_native: fn(G) -> $native = $to_native;
         let act = $act;
         let lit = <lie::S<B> as lie::Real>::lit;

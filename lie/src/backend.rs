@@ -31,78 +31,123 @@ use core::ops::{Add, Mul, Neg, Sub};
 /// assert_eq!(NalgebraF64::vec3_to_array(n), [0.0, 2.0, 3.0]);
 /// let _: S<GlamF32> = Real::lit(1.5); // the scalar is f32 here
 /// ```
-pub trait Backend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 'static {
-    /// The scalar, `f32` or `f64`.
-    type Scalar: Real;
-    /// The library's 3-vector.
-    type Vec3: Copy
-        + Debug
-        + PartialEq
-        + Send
-        + Sync
-        + Add<Output = Self::Vec3>
-        + Sub<Output = Self::Vec3>
-        + Neg<Output = Self::Vec3>
-        + Mul<Self::Scalar, Output = Self::Vec3>;
-    /// The library's 3×3 matrix.
-    type Mat3: Copy
-        + Debug
-        + PartialEq
-        + Send
-        + Sync
-        + Add<Output = Self::Mat3>
-        + Sub<Output = Self::Mat3>
-        + Mul<Self::Mat3, Output = Self::Mat3>
-        + Mul<Self::Vec3, Output = Self::Vec3>
-        + Mul<Self::Scalar, Output = Self::Mat3>;
-    /// The library's quaternion (assumed unit wherever it is used here).
-    type Quat: Copy + Debug + PartialEq + Send + Sync;
+pub trait Backend: SimdBackend<Scalar: Real> {}
 
-    /// Short name used in reports and test names, e.g. `"glam-f32"`.
-    const NAME: &'static str;
+/// Every [`SimdBackend`] whose scalar is one real number is a [`Backend`]:
+/// the single-lane case is a bound, not a second trait.
+impl<B: SimdBackend> Backend for B where B::Scalar: Real {}
 
-    /// Builds a vector from components.
-    fn vec3(x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self::Vec3;
-    /// Components of a vector.
-    fn vec3_to_array(v: Self::Vec3) -> [Self::Scalar; 3];
-    /// Dot product.
-    fn dot(a: Self::Vec3, b: Self::Vec3) -> Self::Scalar;
-    /// Cross product.
-    fn cross(a: Self::Vec3, b: Self::Vec3) -> Self::Vec3;
-    /// Builds a matrix from its three columns.
-    fn mat3_from_cols(c0: Self::Vec3, c1: Self::Vec3, c2: Self::Vec3) -> Self::Mat3;
-    /// The three columns of a matrix.
-    fn mat3_cols(m: Self::Mat3) -> [Self::Vec3; 3];
-    /// Transpose.
-    fn mat3_transpose(m: Self::Mat3) -> Self::Mat3;
-    /// The transpose times a vector, `mᵀ v`, without forming `mᵀ`.
-    fn mat3_tr_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3;
-    /// Builds a quaternion `w + x i + y j + z k`.
-    fn quat_from_wxyz(
-        w: Self::Scalar,
-        x: Self::Scalar,
-        y: Self::Scalar,
-        z: Self::Scalar,
-    ) -> Self::Quat;
-    /// Components `[w, x, y, z]`.
-    fn quat_to_wxyz(q: Self::Quat) -> [Self::Scalar; 4];
-    /// Hamilton product `a ⊗ b`.
-    fn quat_mul(a: Self::Quat, b: Self::Quat) -> Self::Quat;
-    /// Conjugate (the inverse of a unit quaternion).
-    fn quat_conj(q: Self::Quat) -> Self::Quat;
-    /// Rotates a vector by a unit quaternion, `q v q*`.
-    fn quat_rotate(q: Self::Quat, v: Self::Vec3) -> Self::Vec3;
+/// Inherent forwarders of a backend type's primitives, so that
+/// `GlamF32::vec3(…)` reads with only `Backend` imported (the primitives
+/// are [`SimdBackend`]'s; generic code reaches them through the bound).
+macro_rules! inherent_primitives {
+    ($name:ident) => {
+        impl $name {
+            /// Short name, as [`SimdBackend::NAME`](crate::SimdBackend::NAME).
+            pub const NAME: &'static str = <$name as $crate::SimdBackend>::NAME;
+            /// [`SimdBackend::vec3`](crate::SimdBackend::vec3).
+            #[inline(always)]
+            pub fn vec3(
+                x: $crate::S<$name>,
+                y: $crate::S<$name>,
+                z: $crate::S<$name>,
+            ) -> $crate::V3<$name> {
+                <$name as $crate::SimdBackend>::vec3(x, y, z)
+            }
+            /// [`SimdBackend::vec3_to_array`](crate::SimdBackend::vec3_to_array).
+            #[inline(always)]
+            pub fn vec3_to_array(v: $crate::V3<$name>) -> [$crate::S<$name>; 3] {
+                <$name as $crate::SimdBackend>::vec3_to_array(v)
+            }
+            /// [`SimdBackend::dot`](crate::SimdBackend::dot).
+            #[inline(always)]
+            pub fn dot(a: $crate::V3<$name>, b: $crate::V3<$name>) -> $crate::S<$name> {
+                <$name as $crate::SimdBackend>::dot(a, b)
+            }
+            /// [`SimdBackend::cross`](crate::SimdBackend::cross).
+            #[inline(always)]
+            pub fn cross(a: $crate::V3<$name>, b: $crate::V3<$name>) -> $crate::V3<$name> {
+                <$name as $crate::SimdBackend>::cross(a, b)
+            }
+            /// [`SimdBackend::mat3_from_cols`](crate::SimdBackend::mat3_from_cols).
+            #[inline(always)]
+            pub fn mat3_from_cols(
+                c0: $crate::V3<$name>,
+                c1: $crate::V3<$name>,
+                c2: $crate::V3<$name>,
+            ) -> $crate::M3<$name> {
+                <$name as $crate::SimdBackend>::mat3_from_cols(c0, c1, c2)
+            }
+            /// [`SimdBackend::mat3_cols`](crate::SimdBackend::mat3_cols).
+            #[inline(always)]
+            pub fn mat3_cols(m: $crate::M3<$name>) -> [$crate::V3<$name>; 3] {
+                <$name as $crate::SimdBackend>::mat3_cols(m)
+            }
+            /// [`SimdBackend::mat3_transpose`](crate::SimdBackend::mat3_transpose).
+            #[inline(always)]
+            pub fn mat3_transpose(m: $crate::M3<$name>) -> $crate::M3<$name> {
+                <$name as $crate::SimdBackend>::mat3_transpose(m)
+            }
+            /// [`SimdBackend::mat3_tr_mul_vec`](crate::SimdBackend::mat3_tr_mul_vec).
+            #[inline(always)]
+            pub fn mat3_tr_mul_vec(
+                m: $crate::M3<$name>,
+                v: $crate::V3<$name>,
+            ) -> $crate::V3<$name> {
+                <$name as $crate::SimdBackend>::mat3_tr_mul_vec(m, v)
+            }
+            /// [`SimdBackend::quat_from_wxyz`](crate::SimdBackend::quat_from_wxyz).
+            #[inline(always)]
+            pub fn quat_from_wxyz(
+                w: $crate::S<$name>,
+                x: $crate::S<$name>,
+                y: $crate::S<$name>,
+                z: $crate::S<$name>,
+            ) -> <$name as $crate::SimdBackend>::Quat {
+                <$name as $crate::SimdBackend>::quat_from_wxyz(w, x, y, z)
+            }
+            /// [`SimdBackend::quat_to_wxyz`](crate::SimdBackend::quat_to_wxyz).
+            #[inline(always)]
+            pub fn quat_to_wxyz(q: <$name as $crate::SimdBackend>::Quat) -> [$crate::S<$name>; 4] {
+                <$name as $crate::SimdBackend>::quat_to_wxyz(q)
+            }
+            /// [`SimdBackend::quat_mul`](crate::SimdBackend::quat_mul).
+            #[inline(always)]
+            pub fn quat_mul(
+                a: <$name as $crate::SimdBackend>::Quat,
+                b: <$name as $crate::SimdBackend>::Quat,
+            ) -> <$name as $crate::SimdBackend>::Quat {
+                <$name as $crate::SimdBackend>::quat_mul(a, b)
+            }
+            /// [`SimdBackend::quat_conj`](crate::SimdBackend::quat_conj).
+            #[inline(always)]
+            pub fn quat_conj(
+                q: <$name as $crate::SimdBackend>::Quat,
+            ) -> <$name as $crate::SimdBackend>::Quat {
+                <$name as $crate::SimdBackend>::quat_conj(q)
+            }
+            /// [`SimdBackend::quat_rotate`](crate::SimdBackend::quat_rotate).
+            #[inline(always)]
+            pub fn quat_rotate(
+                q: <$name as $crate::SimdBackend>::Quat,
+                v: $crate::V3<$name>,
+            ) -> $crate::V3<$name> {
+                <$name as $crate::SimdBackend>::quat_rotate(q, v)
+            }
+        }
+    };
 }
+pub(crate) use inherent_primitives;
 
 /// A (linear-algebra library, scalar) pair whose scalar may be SIMD lanes
 /// ([`SimdReal`]): the primitives of [`Backend`] without its requirement
 /// that the scalar be one real number. The formulas that never stop on an
 /// error (exp, log, the Jacobians, compose, act) are written over this
 /// trait, their branches as lane-wise selects, so one formula serves the
-/// scalar backends (every [`Backend`] is a `SimdBackend`, by the blanket
-/// impl below) and the lane backends (`NalgebraF64x4`, `NalgebraF32x8`,
-/// feature `simd`) alike. Code for `f32`/`f64` only keeps writing
-/// `B: Backend`, and needs no other import.
+/// scalar backends and the lane backends (`NalgebraF64x4`,
+/// `NalgebraF32x8`, feature `simd`) alike. [`Backend`] is this trait with
+/// the scalar one real number (a bound, not a second trait): code for
+/// `f32`/`f64` only writes `B: Backend`.
 pub trait SimdBackend: Copy + Clone + Default + Debug + PartialEq + Send + Sync + 'static {
     /// The scalar: `f32`, `f64`, or lanes of them.
     type Scalar: SimdReal;
@@ -164,82 +209,6 @@ pub trait SimdBackend: Copy + Clone + Default + Debug + PartialEq + Send + Sync 
     fn quat_conj(q: Self::Quat) -> Self::Quat;
     /// Rotates a vector by a unit quaternion, `q v q*`.
     fn quat_rotate(q: Self::Quat, v: Self::Vec3) -> Self::Vec3;
-}
-
-// Forwarding only: a scalar backend's primitives are its `Backend` ones,
-// so `NalgebraF64::vec3` needs only `Backend` in scope, as before lanes.
-impl<B: Backend> SimdBackend for B {
-    type Scalar = <B as Backend>::Scalar;
-    type Vec3 = <B as Backend>::Vec3;
-    type Mat3 = <B as Backend>::Mat3;
-    type Quat = <B as Backend>::Quat;
-    const NAME: &'static str = <B as Backend>::NAME;
-
-    #[inline(always)]
-    fn vec3(
-        x: <B as Backend>::Scalar,
-        y: <B as Backend>::Scalar,
-        z: <B as Backend>::Scalar,
-    ) -> <B as Backend>::Vec3 {
-        <B as Backend>::vec3(x, y, z)
-    }
-    #[inline(always)]
-    fn vec3_to_array(v: <B as Backend>::Vec3) -> [<B as Backend>::Scalar; 3] {
-        <B as Backend>::vec3_to_array(v)
-    }
-    #[inline(always)]
-    fn dot(a: <B as Backend>::Vec3, b: <B as Backend>::Vec3) -> <B as Backend>::Scalar {
-        <B as Backend>::dot(a, b)
-    }
-    #[inline(always)]
-    fn cross(a: <B as Backend>::Vec3, b: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
-        <B as Backend>::cross(a, b)
-    }
-    #[inline(always)]
-    fn mat3_from_cols(
-        c0: <B as Backend>::Vec3,
-        c1: <B as Backend>::Vec3,
-        c2: <B as Backend>::Vec3,
-    ) -> <B as Backend>::Mat3 {
-        <B as Backend>::mat3_from_cols(c0, c1, c2)
-    }
-    #[inline(always)]
-    fn mat3_cols(m: <B as Backend>::Mat3) -> [<B as Backend>::Vec3; 3] {
-        <B as Backend>::mat3_cols(m)
-    }
-    #[inline(always)]
-    fn mat3_transpose(m: <B as Backend>::Mat3) -> <B as Backend>::Mat3 {
-        <B as Backend>::mat3_transpose(m)
-    }
-    #[inline(always)]
-    fn mat3_tr_mul_vec(m: <B as Backend>::Mat3, v: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
-        <B as Backend>::mat3_tr_mul_vec(m, v)
-    }
-    #[inline(always)]
-    fn quat_from_wxyz(
-        w: <B as Backend>::Scalar,
-        x: <B as Backend>::Scalar,
-        y: <B as Backend>::Scalar,
-        z: <B as Backend>::Scalar,
-    ) -> <B as Backend>::Quat {
-        <B as Backend>::quat_from_wxyz(w, x, y, z)
-    }
-    #[inline(always)]
-    fn quat_to_wxyz(q: <B as Backend>::Quat) -> [<B as Backend>::Scalar; 4] {
-        <B as Backend>::quat_to_wxyz(q)
-    }
-    #[inline(always)]
-    fn quat_mul(a: <B as Backend>::Quat, b: <B as Backend>::Quat) -> <B as Backend>::Quat {
-        <B as Backend>::quat_mul(a, b)
-    }
-    #[inline(always)]
-    fn quat_conj(q: <B as Backend>::Quat) -> <B as Backend>::Quat {
-        <B as Backend>::quat_conj(q)
-    }
-    #[inline(always)]
-    fn quat_rotate(q: <B as Backend>::Quat, v: <B as Backend>::Vec3) -> <B as Backend>::Vec3 {
-        <B as Backend>::quat_rotate(q, v)
-    }
 }
 
 /// Scalar alias for a backend.

@@ -3,7 +3,7 @@
 //! exact rotation's (Shepperd's `w = ½√(1 + tr)` does not scale with the
 //! matrix, so the rotation moves by the order of the scale error).
 
-use lie::{Backend, NalgebraF64, Rotation, So3Mat, So3Quat};
+use lie::{NalgebraF64, Rotation, So3Mat, So3Quat};
 
 type B = NalgebraF64;
 
@@ -14,7 +14,7 @@ fn a_scaled_rotation_gives_the_unit_quaternion_of_the_rotation() {
         ([2.0, 1.0, -0.5], 0.97),
         ([-0.1, 3.0, 0.2], 1.003),
     ] {
-        let phi = <B as Backend>::vec3(phi[0], phi[1], phi[2]);
+        let phi = B::vec3(phi[0], phi[1], phi[2]);
         let r = So3Mat::<B>::exp(phi).as_matrix();
         let exact = So3Quat::<B>::from_matrix(r).quaternion();
         let scaled = So3Quat::<B>::from_matrix(r * scale).quaternion();
@@ -37,7 +37,7 @@ fn a_scaled_rotation_gives_the_unit_quaternion_of_the_rotation() {
 /// step, squares such a drift: from 1e-3 to the order of 1e-6.
 #[test]
 fn a_drifted_matrix_gives_a_unit_quaternion_and_renormalizes() {
-    let r = So3Mat::<B>::exp(<B as Backend>::vec3(0.4, -1.1, 0.7)).as_matrix();
+    let r = So3Mat::<B>::exp(B::vec3(0.4, -1.1, 0.7)).as_matrix();
     let drifted = So3Mat::<B>::from_matrix_unchecked(r * 1.001);
     let q = drifted.quaternion();
     assert!((q.norm() - 1.0).abs() < 1e-15, "|q| = {}", q.norm());

@@ -7,7 +7,7 @@ use controllers::{
     PositionReference, RigidBodyParams, VehicleState, attitude_control as rs_attitude,
     position_control as rs_position,
 };
-use lie::{Backend, GlamF64, M3, Rotation, So3Mat, V3, ops};
+use lie::{GlamF64, M3, Rotation, So3Mat, V3, ops};
 use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

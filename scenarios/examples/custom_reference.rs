@@ -11,7 +11,7 @@ use controllers::{
 };
 use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState};
-use lie::{Backend, NalgebraF64};
+use lie::NalgebraF64;
 use scenarios::reference::derivative_mismatch;
 use scenarios::{Simulation, Until};
 

@@ -11,7 +11,7 @@ use controllers::{
 };
 use dynamics::paper;
 use dynamics::{Hexarotor, RigidBodyState};
-use lie::{Backend, GlamF64, Real, Rotation, So3Quat};
+use lie::{GlamF64, Real, Rotation, So3Quat};
 use scenarios::metrics::norm;
 use scenarios::montecarlo::{Study, Summary, in_ball, shoemake};
 use scenarios::{DivergenceGuard, SimError, Simulation, Until};

@@ -7,7 +7,7 @@
 //! `cargo run --release -p scenarios --example wind_study [samples]`
 
 use dynamics::{DrydenSpec, DrydenWind, RigidBodyState};
-use lie::{Backend, NalgebraF64, Real};
+use lie::{NalgebraF64, Real};
 use scenarios::montecarlo::rand_core::Rng;
 use scenarios::montecarlo::{Study, Summary, in_ball};
 use scenarios::{DivergenceGuard, Overrides, Scene, SimError, Simulation, Until};

@@ -311,7 +311,7 @@ mod tests {
     use std::sync::Arc;
 
     use controllers::PositionSource;
-    use lie::{Backend, NalgebraF64};
+    use lie::NalgebraF64;
 
     use super::*;
     use crate::ScenePosition;

@@ -36,7 +36,7 @@ use controllers::{
     AccelerationModel, AttitudeGains, GainBounds, GainReport, PositionGains, RigidBodyParams,
     VehicleState, check_gains, position_control,
 };
-use lie::{Backend, NalgebraF64 as B, So3Mat};
+use lie::{NalgebraF64 as B, So3Mat};
 
 use crate::metrics::norm;
 use crate::scene::{GainsSpec, ModeKind};

@@ -164,7 +164,7 @@ pub fn position<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
 /// The rotation with rotation vector `phi`, rows, in f64 (`lie`'s exp on
 /// nalgebra-f64).
 pub fn rotation_f64(phi: [f64; 3]) -> M {
-    use lie::{Backend, NalgebraF64, Rotation};
+    use lie::{NalgebraF64, Rotation};
     let r = So3Mat::<NalgebraF64>::exp(NalgebraF64::vec3(phi[0], phi[1], phi[2])).matrix();
     lie::ops::elems::<NalgebraF64>(r)
 }
@@ -182,7 +182,7 @@ pub fn derivative_mismatch<P: controllers::PositionSource<lie::NalgebraF64>>(
     t1: f64,
     n: usize,
 ) -> [f64; 6] {
-    use lie::{Backend, NalgebraF64 as N};
+    use lie::NalgebraF64 as N;
     let h = 1e-4;
     let arr = |v: lie::V3<N>| N::vec3_to_array(v);
     let mut worst = [0.0f64; 6];

@@ -15,7 +15,7 @@ use controllers::{
 use dynamics::Quadrotor;
 use dynamics::paper;
 use landing::Landing;
-use lie::{Backend, NalgebraF64};
+use lie::NalgebraF64;
 use scenarios::{RunOutput, Simulation, Until};
 
 type B = NalgebraF64;

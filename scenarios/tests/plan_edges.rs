@@ -12,7 +12,7 @@ use controllers::{
     PositionReference, RigidBodyParams,
 };
 use dynamics::{Multirotor, MultirotorParams, Quadrotor, RigidBodyState, Wind};
-use lie::{Backend, NalgebraF64};
+use lie::NalgebraF64;
 use scenarios::{Control, Divergence, DivergenceGuard, RunOutput, Simulation, Until};
 
 type B = NalgebraF64;

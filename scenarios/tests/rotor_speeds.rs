@@ -11,7 +11,7 @@ use controllers::{ControlError, Mode, ModeOutput, VehicleState};
 use dynamics::{
     DrydenSpec, DrydenWind, Multirotor, MultirotorParams, Quadrotor, RigidBodyState, Wrench,
 };
-use lie::{Backend, NalgebraF64, S, So3Mat};
+use lie::{NalgebraF64, S, So3Mat};
 use scenarios::{Control, RunOutput, SimError, Simulation, Until};
 
 type B = NalgebraF64;

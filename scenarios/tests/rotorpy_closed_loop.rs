@@ -17,7 +17,7 @@ use std::process::Command;
 
 use controllers::{ControlError, Mode, ModeOutput, VehicleState};
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState, Vehicle};
-use lie::{Backend, NalgebraF64, Rotation, S, So3Mat, ops};
+use lie::{NalgebraF64, Rotation, S, So3Mat, ops};
 use scenarios::metrics::nan_max;
 use scenarios::{Control, Simulation, Until};
 

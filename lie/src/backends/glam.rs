@@ -5,7 +5,8 @@
 //! on, four lanes wide with the fourth unused, and faster for matrix
 //! products and actions.
 
-use crate::Backend;
+use crate::SimdBackend;
+use crate::backend::inherent_primitives;
 
 macro_rules! glam_backend {
     ($(#[$doc:meta])* $name:ident, $s:ty, $v:ty, $m:ty, $q:ty, $label:literal) => {
@@ -13,7 +14,9 @@ macro_rules! glam_backend {
         #[derive(Copy, Clone, Default, Debug, PartialEq, Eq, Hash)]
         pub struct $name;
 
-        impl Backend for $name {
+        inherent_primitives!($name);
+
+        impl SimdBackend for $name {
             type Scalar = $s;
             type Vec3 = $v;
             type Mat3 = $m;

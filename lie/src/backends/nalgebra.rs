@@ -1,8 +1,7 @@
 //! The nalgebra backend: `Vector3<T>`, `Matrix3<T>` and `UnitQuaternion<T>`.
 
-use crate::Backend;
-#[cfg(feature = "simd")]
 use crate::SimdBackend;
+use crate::backend::inherent_primitives;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 macro_rules! nalgebra_backend {
@@ -10,6 +9,8 @@ macro_rules! nalgebra_backend {
         $(#[$doc])*
         #[derive(Copy, Clone, Default, Debug, PartialEq, Eq, Hash)]
         pub struct $name;
+
+        inherent_primitives!($name);
 
         impl $trait for $name {
             type Scalar = $s;
@@ -80,11 +81,11 @@ macro_rules! nalgebra_backend {
 
 nalgebra_backend!(
     /// nalgebra with `f32`: `Vector3<f32>`, `Matrix3<f32>`, `UnitQuaternion<f32>`.
-    NalgebraF32, Backend, f32, "nalgebra-f32"
+    NalgebraF32, SimdBackend, f32, "nalgebra-f32"
 );
 nalgebra_backend!(
     /// nalgebra with `f64`: `Vector3<f64>`, `Matrix3<f64>`, `UnitQuaternion<f64>`.
-    NalgebraF64, Backend, f64, "nalgebra-f64"
+    NalgebraF64, SimdBackend, f64, "nalgebra-f64"
 );
 #[cfg(feature = "simd")]
 nalgebra_backend!(

@@ -15,7 +15,7 @@ use controllers::{
 use dynamics::paper;
 use dynamics::{Quadrotor, RigidBodyState};
 use landing::Landing;
-use lie::{Backend, GlamF64};
+use lie::GlamF64;
 use scenarios::{Simulation, Until};
 
 type B = GlamF64;

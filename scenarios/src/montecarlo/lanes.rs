@@ -27,7 +27,7 @@ use controllers::{
 use dynamics::{Disturbance, RigidBodyState, Vehicle, Wrench};
 use integrators::State;
 use integrators::lanes::{DopriLanes, LaneFailure, LaneSystem};
-use lie::{Backend, GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, V3};
+use lie::{GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, V3};
 
 use super::experiments::{
     DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, Setup,

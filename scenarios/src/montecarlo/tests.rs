@@ -329,7 +329,6 @@ fn experiments_draw_what_they_study_and_rows_report_it() {
 /// position experiment, `Ψ/psi_tol` alone in the attitude one.
 #[test]
 fn the_settle_metric_is_the_larger_tolerance_ratio() {
-    use lie::Backend;
     type B = lie::GlamF64;
     let mut s = setup();
     s.psi_tol = 1e-3;

@@ -30,7 +30,7 @@ use controllers::{
 use dynamics::free_body::ExactFreeBody;
 use dynamics::{Quadrotor, RigidBodyState};
 use horizon::long_horizon;
-use lie::{Backend, GlamF64};
+use lie::GlamF64;
 use non_finite::non_finite;
 use precision::f32_vs_f64;
 use rates::{free_body, high_rate, step_limit};

@@ -1,7 +1,7 @@
 //! A flight mode with no control law, for tests of the loop around modes.
 
 use controllers::{ControlError, Mode, ModeOutput, VehicleState};
-use lie::{Backend, NalgebraF64, S, So3Mat};
+use lie::{NalgebraF64, S, So3Mat};
 
 type B = NalgebraF64;
 
