@@ -24,7 +24,8 @@
 //!    (`gpid.WorkPrecisionPoint`), JSON with JSON schemas, so benchmark
 //!    history reads with the same tools as the flight logs.
 //!
-//! `--quick`: short criterion passes (0.3 s warm-up, 0.7 s measurement),
+//! `--quick`: short criterion passes (0.1 s warm-up, 0.3 s measurement;
+//! rough medians, for a smoke run),
 //! every other sweep point, the free body over 10 s instead of 100 s.
 
 use std::collections::BTreeMap;
@@ -59,9 +60,6 @@ pub struct BenchArgs {
     pub throughput: bool,
 }
 
-/// The features of the lane benches' run.
-const LANE_FEATURES: &str = "controllers/simd,scenarios/simd";
-
 /// One row of `summary.csv`.
 struct Row {
     name: String,
@@ -93,44 +91,115 @@ fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
     b
 }
 
-/// `cargo bench -q -p PACKAGE [--features F] --bench BENCH -- [FILTER]`
-/// (`package` may name several, space-separated: one build for all).
-fn criterion(
-    package: &str,
-    features: Option<&str>,
-    bench: &str,
-    filter: &str,
-    quick: bool,
-) -> Result<(), String> {
+/// The packages and features of every bench build: one set for all, so
+/// that one `cargo bench --no-run` compiles each library once (four builds
+/// with their own feature sets compiled the workspace four times).
+const BENCH_PACKAGES: [&str; 3] = ["lie", "controllers", "scenarios"];
+const BENCH_FEATURES: &str = "lie/simd,controllers/simd,scenarios/simd";
+
+/// The criterion passes: `(package, bench target, filter)`. `lie`'s own
+/// `lanes` bench (per-rotation lane timings) is not one of them.
+const PASSES: [(&str, &str, &str); 5] = [
+    ("controllers", "update", ""),
+    ("scenarios", "step", ""),
+    ("lie", "lie", "vs-native"),
+    ("controllers", "lanes", ""),
+    ("scenarios", "lanes", ""),
+];
+
+/// Builds every bench binary of [`PASSES`] in one `cargo bench --no-run`
+/// and returns `(package, target) -> executable`.
+fn build_benches() -> Result<BTreeMap<(String, String), PathBuf>, String> {
     let mut cmd = Command::new(env!("CARGO"));
-    cmd.args(["bench", "-q"]);
-    for p in package.split(' ') {
+    cmd.args([
+        "bench",
+        "-q",
+        "--no-run",
+        "--message-format=json-render-diagnostics",
+    ]);
+    for p in BENCH_PACKAGES {
         cmd.args(["-p", p]);
     }
-    if let Some(f) = features {
-        cmd.args(["--features", f]);
+    cmd.args(["--features", BENCH_FEATURES]);
+    let mut targets: Vec<&str> = PASSES.iter().map(|p| p.1).collect();
+    targets.dedup();
+    for t in targets {
+        cmd.args(["--bench", t]);
     }
-    cmd.args(["--bench", bench, "--"])
+    // Compiler messages (rendered) go to stderr, shown as they come.
+    let out = cmd
         .current_dir(workspace_root())
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|e| format!("cargo bench --no-run: {e}"))?;
+    if !out.status.success() {
+        return Err("cargo bench --no-run failed (compiler output above)".into());
+    }
+    let mut exes = BTreeMap::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Ok(v) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        let (Some(exe), Some(name), Some(manifest)) = (
+            v["executable"].as_str(),
+            v["target"]["name"].as_str(),
+            v["manifest_path"].as_str(),
+        ) else {
+            continue;
+        };
+        // The package is the folder of its manifest (workspace members).
+        let package = Path::new(manifest)
+            .parent()
+            .and_then(|d| d.file_name())
+            .map(|d| d.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        exes.insert((package, name.to_string()), PathBuf::from(exe));
+    }
+    Ok(exes)
+}
+
+/// Runs one bench binary as `cargo bench` would (from its package's folder,
+/// with `--bench`), with the filter and, under `--quick`, short passes.
+fn criterion(exe: &Path, package: &str, filter: &str, quick: bool) -> Result<(), String> {
+    let mut cmd = Command::new(exe);
+    cmd.arg("--bench")
+        .current_dir(workspace_root().join(package))
+        .env("CARGO_TARGET_DIR", target_dir())
         .stdout(Stdio::null());
     if !filter.is_empty() {
         cmd.arg(filter);
     }
     if quick {
-        cmd.args(["--warm-up-time", "0.3", "--measurement-time", "0.7"]);
+        // About half a second per benchmark (230 of them): rough medians.
+        cmd.args([
+            "--warm-up-time",
+            "0.1",
+            "--measurement-time",
+            "0.3",
+            "--nresamples",
+            "10000",
+        ]);
     }
     // Criterion's progress goes to stderr; it is shown only on failure.
     let out = cmd
         .stderr(Stdio::piped())
         .output()
-        .map_err(|e| format!("cargo bench -p {package}: {e}"))?;
+        .map_err(|e| format!("{}: {e}", exe.display()))?;
     if !out.status.success() {
         return Err(format!(
-            "cargo bench -p {package} --bench {bench} failed:\n{}",
+            "{} --bench {filter} failed:\n{}",
+            exe.display(),
             String::from_utf8_lossy(&out.stderr)
         ));
     }
     Ok(())
+}
+
+/// Cargo's target folder (`CARGO_TARGET_DIR` when set).
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace_root().join("target"))
 }
 
 /// What a criterion id `group/pair[-hand|-direct]` measured.
@@ -219,38 +288,21 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         return Ok(());
     }
     if !a.no_run {
-        let b = bar(4, "criterion");
         eprintln!(
-            "running criterion benches (controllers update, scenarios step, lie vs the backends' own types, the lanes)…"
+            "building the criterion benches (controllers update, scenarios step, lie vs the backends' own types, the lanes)…"
         );
-        // Every run with the lane features (the scalar code is the same
-        // with them on), so that the builds share what they can.
-        criterion(
-            "controllers",
-            Some("controllers/simd"),
-            "update",
-            "",
-            a.quick,
-        )?;
-        b.inc(1);
-        criterion("scenarios", Some("scenarios/simd"), "step", "", a.quick)?;
-        b.inc(1);
-        criterion("lie", Some("lie/simd"), "lie", "vs-native", a.quick)?;
-        b.inc(1);
-        criterion(
-            "controllers scenarios",
-            Some(LANE_FEATURES),
-            "lanes",
-            "",
-            a.quick,
-        )?;
-        b.inc(1);
+        let exes = build_benches()?;
+        let b = bar(PASSES.len() as u64, "criterion");
+        for (package, target, filter) in PASSES {
+            let exe = exes
+                .get(&(package.to_string(), target.to_string()))
+                .ok_or_else(|| format!("cargo built no bench `{target}` of {package}"))?;
+            criterion(exe, package, filter, a.quick)?;
+            b.inc(1);
+        }
         b.finish_and_clear();
     }
-    let crit = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target"))
-        .join("criterion");
+    let crit = target_dir().join("criterion");
     let rows = summary_rows(&crit)?;
     if rows.is_empty() {
         return Err(format!(
