@@ -114,19 +114,12 @@ impl<B: Backend> PositionReference<B> {
     }
 }
 
-/// The vehicle state the position law reads: position and velocity in the
-/// inertial frame, attitude, body angular velocity.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct VehicleState<B: lie::SimdBackend, R: AttitudeErrors<B>> {
-    /// `x`.
-    pub x: V3<B>,
-    /// `v = ẋ`.
-    pub v: V3<B>,
-    /// `R`.
-    pub r: R,
-    /// `Ω`.
-    pub omega: V3<B>,
-}
+/// The vehicle state the position law reads: attitude `R`, position `x`
+/// and velocity `v = ẋ` in the inertial frame, body angular velocity `Ω`.
+/// It is [`lie::RigidState`], the one rigid-body state of the workspace,
+/// with the attitude in the representation `R` the law runs on (a matrix,
+/// as the simulations integrate it, or a quaternion).
+pub type VehicleState<B, R> = lie::RigidState<B, R>;
 
 /// Which translational acceleration (and its derivative) the computed
 /// attitude's derivatives use.

@@ -510,7 +510,7 @@ fn non_finite_inputs_are_errors_naming_the_field() {
         PositionGains::<B>::paper(),
         AttitudeGains::<B>::paper(),
     );
-    let mut st = VehicleState {
+    let mut st = VehicleState::<B, _> {
         x: V::zeros(),
         v: V::zeros(),
         r: R::identity(),

@@ -111,7 +111,7 @@ fn the_pd_thrust_projection_is_eqn_f_without_the_integral() {
     gains.k_x = V::new(12.8, 11.0, 10.0);
     gains.k_v = V::new(4.22, 4.0, 3.5);
     let theta: f64 = 0.3;
-    let state = VehicleState {
+    let state = VehicleState::<B, _> {
         x: V::new(0.5, -0.4, 0.3),
         v: V::new(-0.2, 0.6, 0.1),
         r: R::exp(V::new(theta, 0.0, 0.0)),

@@ -78,70 +78,15 @@ pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimi
 pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};
 
 /// The rigid-body state `(R, x, v, Ω)` of the paper: attitude (body to
-/// inertial), position and velocity in the inertial frame, angular velocity
-/// in the body frame.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct RigidBodyState<B: lie::SimdBackend> {
-    /// Attitude, a rotation matrix mapping body vectors to inertial ones.
-    pub r: M3<B>,
-    /// Position of the centre of mass, inertial frame, m.
-    pub x: V3<B>,
-    /// Velocity, inertial frame, m/s.
-    pub v: V3<B>,
-    /// Angular velocity, body frame, rad/s.
-    pub omega: V3<B>,
-}
-
-impl<B: Backend> RigidBodyState<B> {
-    /// At rest at the origin with `R = I` (the paper's initial hover).
-    pub fn at_rest() -> Self {
-        Self {
-            r: ops::identity::<B>(),
-            x: ops::zero::<B>(),
-            v: ops::zero::<B>(),
-            omega: ops::zero::<B>(),
-        }
-    }
-
-    /// First field that holds a NaN or ±∞, if any.
-    pub fn non_finite_field(&self) -> Option<&'static str> {
-        if !ops::is_finite_mat::<B>(self.r) {
-            Some("r")
-        } else if !ops::is_finite_vec::<B>(self.x) {
-            Some("x")
-        } else if !ops::is_finite_vec::<B>(self.v) {
-            Some("v")
-        } else if !ops::is_finite_vec::<B>(self.omega) {
-            Some("omega")
-        } else {
-            None
-        }
-    }
-
-    /// The state as an element of the group SO(3) × ℝ³ × ℝ³ × ℝ³, for
-    /// `⊕`/`⊖` on the whole state (the attitude perturbed on the right, the
-    /// vectors additively).
-    #[inline]
-    pub fn group(self) -> lie::RigidState<B, lie::So3Mat<B>> {
-        lie::RigidState::new(
-            lie::So3Mat::from_matrix_unchecked(self.r),
-            self.x,
-            self.v,
-            self.omega,
-        )
-    }
-
-    /// The state of a group element (the inverse of [`RigidBodyState::group`]).
-    #[inline]
-    pub fn from_group<R: lie::Rotation<B>>(g: lie::RigidState<B, R>) -> Self {
-        Self {
-            r: g.r.matrix(),
-            x: g.x,
-            v: g.v,
-            omega: g.omega,
-        }
-    }
-}
+/// inertial, the matrix as integrated), position and velocity in the
+/// inertial frame, angular velocity in the body frame. It is
+/// [`lie::RigidState`] with a matrix attitude, the one state type of the
+/// workspace (control laws, integrators and simulations take it too); its
+/// constructors and checks are there
+/// ([`at_rest`](lie::RigidState::at_rest),
+/// [`non_finite_field`](lie::RigidState::non_finite_field),
+/// [`group`](lie::RigidState::group)).
+pub type RigidBodyState<B> = lie::RigidState<B, M3<B>>;
 
 /// Body wrench commanded to the vehicle: total thrust `f` along `−b3` and the
 /// body moment `M`.

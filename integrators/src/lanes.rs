@@ -113,7 +113,7 @@ pub fn select_state<B: SimdBackend, const N: usize>(
 ) -> State<B, N> {
     let v = |x, y| ops::select_vec::<B>(mask, x, y);
     State {
-        body: dynamics::RigidBodyState {
+        body: lie::RigidState {
             r: ops::select_mat::<B>(mask, a.body.r, b.body.r),
             x: v(a.body.x, b.body.x),
             v: v(a.body.v, b.body.v),
@@ -146,7 +146,7 @@ where
 {
     let v = |x| lie::lanes::vec3_lane::<E, B>(x, i);
     State {
-        body: dynamics::RigidBodyState {
+        body: lie::RigidState {
             r: lie::lanes::mat3_lane::<E, B>(y.body.r, i),
             x: v(y.body.x),
             v: v(y.body.v),
@@ -165,7 +165,7 @@ where
     let v =
         |part: fn(&State<E, N>) -> lie::V3<E>| lie::lanes::vec3_from_fn::<E, B>(|i| part(&f(i)));
     State {
-        body: dynamics::RigidBodyState {
+        body: lie::RigidState {
             r: lie::lanes::mat3_from_fn::<E, B>(|i| f(i).body.r),
             x: v(|s| s.body.x),
             v: v(|s| s.body.v),
@@ -272,7 +272,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             call,
             max_substeps,
             y: State {
-                body: dynamics::RigidBodyState {
+                body: lie::RigidState {
                     r: i3,
                     x: zv,
                     v: zv,
@@ -393,7 +393,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
             let z = S::<B>::zero();
             let zv = ops::zero::<B>();
             State {
-                body: dynamics::RigidBodyState {
+                body: lie::RigidState {
                     r: self.y.body.r * z,
                     x: zv,
                     v: zv,

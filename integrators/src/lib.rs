@@ -4,10 +4,10 @@
 //! (mass, inertia, whether it translates) plus `N` extra scalar states (a
 //! controller's integral terms, say), and a load function returning the
 //! total inertial force, the body moment and the extra states' rates. They
-//! are therefore not tied to the quadrotor: [`OpenLoop`] wraps any
-//! [`dynamics::Vehicle`] under a fixed wrench, [`problems::HeavyTop`] is a
-//! forced test problem, and the scenario runner's closed loop is one more
-//! `System` with `N = 6`.
+//! are therefore not tied to a vehicle, and this crate depends on `lie`
+//! alone: [`problems::TorqueFree`] and [`problems::HeavyTop`] are test
+//! problems, `scenarios::OpenLoop` runs a `dynamics` vehicle under a held
+//! wrench, and the scenario runner's closed loop is one more `System`.
 //!
 //! | stepper | order | on SO(3) | loads per step | notes |
 //! |---|---|---|---|---|
@@ -34,21 +34,21 @@
 //! orthogonality to rounding, RK4 both to its truncation error.
 //!
 //! ```
-//! use dynamics::{FreeRigidBody, RigidBodyState, Vehicle, Wrench};
-//! use integrators::{Lgvi, OpenLoop, Rk4, State, integrate_fixed};
-//! use lie::{Backend, NalgebraF64, Rotation, So3Mat, ops};
+//! use integrators::{Lgvi, Rk4, State, System, integrate_fixed};
+//! use integrators::problems::TorqueFree;
+//! use lie::{Backend, NalgebraF64, RigidState, Rotation, So3Mat, ops};
 //! type B = NalgebraF64;
 //!
-//! let body = FreeRigidBody::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0))?;
+//! let body = TorqueFree::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0));
 //! let energy = |y: &State<B, 0>| {
 //!     let w = y.body.omega;
 //!     0.5 * B::dot(w, body.inertia() * w)
 //! };
-//! let mut start = State::<B, 0>::new(RigidBodyState::at_rest());
+//! let mut start = State::<B, 0>::new(RigidState::at_rest());
 //! start.body.omega = B::vec3(1.0, 0.5, -0.3);
 //! let e0 = energy(&start);
 //! for (name, drift_bound, group_bound) in [("lgvi", 1e-12, 1e-12), ("rk4", 1e-6, 1e-8)] {
-//!     let mut sys = OpenLoop::new(&body, Wrench::zero());
+//!     let mut sys = body;
 //!     let mut y = start;
 //!     match name {
 //!         "lgvi" => integrate_fixed(&mut Lgvi::default(), &mut sys, 0.0, 0.01, 10_000, &mut y)?,
@@ -77,7 +77,7 @@ pub use dopri::Dopri;
 pub use lgvi::{EndLoad, Lgvi};
 pub use rk::{Euler, Rk4, Rkmk4};
 pub use stepper::{IntegratorKind, Stepper, StepperConfig, UnknownIntegrator};
-pub use system::{Load, OpenLoop, State, System};
+pub use system::{Load, State, System, inverse_or_nan};
 
 use core::fmt;
 use lie::{Backend, S};
@@ -207,15 +207,14 @@ impl std::error::Error for StepError {}
 /// orders (halving h divides RK4's step error by about 2⁵ = 32).
 ///
 /// ```
-/// use dynamics::{FreeRigidBody, RigidBodyState, Wrench};
-/// use integrators::{Integrator, OpenLoop, Rk4, Rkmk4, State, integrate_fixed};
-/// use lie::{Backend, NalgebraF64, ops};
+/// use integrators::{Integrator, Rk4, Rkmk4, State, integrate_fixed};
+/// use integrators::problems::TorqueFree;
+/// use lie::{Backend, NalgebraF64, RigidState, ops};
 /// type B = NalgebraF64;
 ///
 /// fn step_error<I: Integrator<B, 0> + Default>(h: f64) -> f64 {
-///     let body = FreeRigidBody::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0)).unwrap();
-///     let mut sys = OpenLoop::new(&body, Wrench::zero());
-///     let mut start = State::<B, 0>::new(RigidBodyState::at_rest());
+///     let mut sys = TorqueFree::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0));
+///     let mut start = State::<B, 0>::new(RigidState::at_rest());
 ///     start.body.omega = B::vec3(1.0, 0.5, -0.3);
 ///     let (mut one, mut fine) = (start, start);
 ///     I::default().step(&mut sys, 0.0, h, &mut one).unwrap();

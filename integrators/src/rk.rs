@@ -1,7 +1,6 @@
 //! Explicit Runge–Kutta steppers: Euler and RK4 on the embedding (R as nine
 //! numbers), RKMK4 on the group.
 
-use dynamics::RigidBodyState;
 use lie::num_traits::Zero;
 use lie::{
     Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3, hat,
@@ -98,7 +97,7 @@ pub(crate) fn combine<B: SimdBackend, const N: usize, const K: usize>(
         (y.body.x, y.body.v)
     };
     State {
-        body: dynamics::RigidBodyState {
+        body: lie::RigidState {
             r: y.body.r + dr,
             x,
             v,
@@ -351,7 +350,7 @@ pub(crate) fn rkmk4_stages<B: SimdBackend, E, const N: usize>(
     // follow the RK4 tableau as they are.
     let (r0, b0) = (So3Mat::<B>::from_matrix_unchecked(y.body.r), y.body);
     let at = |u: V3<B>, (d, extra): (RigidTangent<B>, [S<B>; N])| State {
-        body: RigidBodyState {
+        body: lie::RigidState {
             r: r0.compose(So3Mat::<B>::exp(u)).as_matrix(),
             x: b0.x + d.x,
             v: b0.v + d.v,
@@ -419,7 +418,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rkmk4 {
         // follow the RK4 tableau as they are.
         let g0 = y.body.group();
         let at = |u: V3<B>, (d, extra): (RigidTangent<B>, [S<B>; N])| State {
-            body: RigidBodyState::from_group(g0.rplus(RigidTangent { phi: u, ..d })),
+            body: lie::RigidState::from_group(g0.rplus(RigidTangent { phi: u, ..d })),
             extra,
         };
         let k1 = body.deriv(y, &eval(sys, t, y)?);

@@ -1,22 +1,22 @@
 //! The state and the system an integrator advances.
 
-use dynamics::{RigidBodyState, Vehicle, Wrench, loads};
 use lie::num_traits::Zero;
-use lie::{Backend, M3, S, V3, ops};
+use lie::{Backend, M3, RigidState, S, V3, ops};
 
 /// A rigid body plus `N` extra scalar states (integral terms of a
 /// controller, say), advanced together.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct State<B: lie::SimdBackend, const N: usize> {
-    /// Attitude, position, velocity, angular velocity.
-    pub body: RigidBodyState<B>,
+    /// Attitude (the matrix as integrated), position, velocity, angular
+    /// velocity: the one rigid-body state of the workspace.
+    pub body: RigidState<B, M3<B>>,
     /// Extra states.
     pub extra: [S<B>; N],
 }
 
 impl<B: Backend, const N: usize> State<B, N> {
     /// A body state with the extra states at zero.
-    pub fn new(body: RigidBodyState<B>) -> Self {
+    pub fn new(body: RigidState<B, M3<B>>) -> Self {
         Self {
             body,
             extra: [S::<B>::zero(); N],
@@ -89,9 +89,8 @@ impl<B: Backend, const N: usize> Load<B, N> {
 /// `∫x3 dt = g/6`, both polynomials RK4 integrates exactly.
 ///
 /// ```
-/// use dynamics::RigidBodyState;
 /// use integrators::{Load, Rk4, State, System, integrate_fixed};
-/// use lie::{Backend, GlamF64, M3, ops};
+/// use lie::{Backend, GlamF64, M3, RigidState, ops};
 /// type B = GlamF64;
 ///
 /// struct Falling;
@@ -106,7 +105,7 @@ impl<B: Backend, const N: usize> Load<B, N> {
 ///         }
 ///     }
 /// }
-/// let mut y = State::<B, 1>::new(RigidBodyState::at_rest());
+/// let mut y = State::<B, 1>::new(RigidState::at_rest());
 /// integrate_fixed(&mut Rk4::default(), &mut Falling, 0.0, 0.1, 10, &mut y)?;
 /// assert!((B::vec3_to_array(y.body.x)[2] - 9.81 / 2.0).abs() < 1e-12);
 /// assert!((y.extra[0] - 9.81 / 6.0).abs() < 1e-12);
@@ -138,62 +137,11 @@ pub trait System<B: Backend, const N: usize> {
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N>;
 }
 
-/// `m⁻¹`, or all NaN for a singular `m` (see [`System::inertia_inv`]).
-pub(crate) fn inverse_or_nan<B: Backend>(m: M3<B>) -> M3<B> {
+/// `m⁻¹`, or all NaN for a singular `m` (see [`System::inertia_inv`]):
+/// what a [`System`] caching its inverse inertia stores.
+pub fn inverse_or_nan<B: Backend>(m: M3<B>) -> M3<B> {
     ops::inverse::<B>(m).unwrap_or_else(|| {
         let nan = <S<B> as lie::num_traits::Float>::nan();
         ops::diag::<B>(nan, nan, nan) * nan
     })
-}
-
-/// A vehicle under a fixed commanded wrench (zero for an unactuated body):
-/// the open-loop [`System`] with no extra states.
-pub struct OpenLoop<'a, B: Backend> {
-    vehicle: &'a dyn Vehicle<B>,
-    /// The commanded wrench, held.
-    pub wrench: Wrench<B>,
-    inertia: M3<B>,
-    inertia_inv: M3<B>,
-}
-
-impl<'a, B: Backend> OpenLoop<'a, B> {
-    /// `vehicle` with wrench `wrench`. The built-in vehicles validate
-    /// their inertia when built ([`dynamics::check_inertia`]); a singular
-    /// one of a user's vehicle gives a NaN inverse, so the first step fails
-    /// with a non-finite state rather than integrating a wrong body.
-    pub fn new(vehicle: &'a dyn Vehicle<B>, wrench: Wrench<B>) -> Self {
-        let inertia = vehicle.inertia();
-        Self {
-            vehicle,
-            wrench,
-            inertia,
-            inertia_inv: inverse_or_nan::<B>(inertia),
-        }
-    }
-}
-
-impl<B: Backend> System<B, 0> for OpenLoop<'_, B> {
-    fn mass(&self) -> S<B> {
-        self.vehicle.mass()
-    }
-    fn inertia(&self) -> M3<B> {
-        self.inertia
-    }
-    fn inertia_inv(&self) -> M3<B> {
-        self.inertia_inv
-    }
-    fn translates(&self) -> bool {
-        self.vehicle.translates()
-    }
-    fn load_depends_on_rates(&self) -> bool {
-        self.vehicle.rate_dependent_loads()
-    }
-    fn load(&mut self, t: S<B>, y: &State<B, 0>) -> Load<B, 0> {
-        let l = loads(self.vehicle, t, &y.body, &self.wrench);
-        Load {
-            force: l.force,
-            moment: l.moment,
-            extra_rate: [],
-        }
-    }
 }

@@ -181,8 +181,7 @@ fn exact_free_body_holds_at_100_rad_per_s() {
     let omega0 = [3.0, -2.0, 100.0];
     let r0 = mat_f64::<lie::NalgebraF64>(r0::<lie::NalgebraF64>());
     let ex = dynamics::free_body::ExactFreeBody::new([1.0, 2.0, 3.0], omega0, r0).unwrap();
-    let body = dynamics::FreeRigidBody::<B>::diag123();
-    let mut sys = integrators::OpenLoop::new(&body, dynamics::Wrench::zero());
+    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
     let mut y = free_start::<B>();
     y.body.omega = B::vec3(omega0[0], omega0[1], omega0[2]);
     let (t_end, n) = (2.0, 200_000);

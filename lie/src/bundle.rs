@@ -93,6 +93,65 @@ impl<B: SimdBackend, R: So3Group<B>> RigidState<B, R> {
     }
 }
 
+/// The state as a simulation carries it: `R` the attitude matrix as
+/// integrated (a Runge–Kutta step leaves it a little off SO(3); the group
+/// operations want a rotation, hence [`RigidState::group`]). Vehicles,
+/// control laws and integrators all take this one type.
+impl<B: crate::Backend> RigidState<B, M3<B>> {
+    /// At rest at the origin with `R = I` (the paper's initial hover).
+    pub fn at_rest() -> Self {
+        Self {
+            r: ops::identity::<B>(),
+            x: ops::zero::<B>(),
+            v: ops::zero::<B>(),
+            omega: ops::zero::<B>(),
+        }
+    }
+
+    /// First field that holds a NaN or ±∞ (`"r"`, `"x"`, `"v"`, `"omega"`),
+    /// if any.
+    pub fn non_finite_field(&self) -> Option<&'static str> {
+        if !ops::is_finite_mat::<B>(self.r) {
+            Some("r")
+        } else if !ops::is_finite_vec::<B>(self.x) {
+            Some("x")
+        } else if !ops::is_finite_vec::<B>(self.v) {
+            Some("v")
+        } else if !ops::is_finite_vec::<B>(self.omega) {
+            Some("omega")
+        } else {
+            None
+        }
+    }
+
+    /// The state of a group element, its attitude as a matrix (the inverse
+    /// of [`RigidState::group`] for `So3Mat`).
+    #[inline]
+    pub fn from_group<R: crate::Rotation<B>>(g: RigidState<B, R>) -> Self {
+        Self {
+            r: g.r.matrix(),
+            x: g.x,
+            v: g.v,
+            omega: g.omega,
+        }
+    }
+}
+
+impl<B: SimdBackend> RigidState<B, M3<B>> {
+    /// The same state with its attitude taken as a rotation (unchecked),
+    /// for `⊕`/`⊖` on the whole state: the attitude perturbed on the right,
+    /// the vectors additively.
+    #[inline]
+    pub fn group(self) -> RigidState<B, crate::So3Mat<B>> {
+        RigidState {
+            r: crate::So3Mat::from_matrix_unchecked(self.r),
+            x: self.x,
+            v: self.v,
+            omega: self.omega,
+        }
+    }
+}
+
 impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for RigidState<B, R> {
     const DOF: usize = 12;
     type Tangent = RigidTangent<B>;

@@ -157,12 +157,12 @@ hand_loop!(loop32, hand32, f32, glam::Vec3, glam::Mat3);
 mod direct {
     use controllers::{
         AccelerationModel, AttitudeGains, HoldPosition, Mode, PositionGains, PositionMode,
-        PositionReference, RigidBodyParams, VehicleState,
+        PositionReference, RigidBodyParams,
     };
     use dynamics::{Hexarotor, Quadrotor, RigidBodyState, Vehicle, Wrench, paper};
     use integrators::{Integrator, Load, Rk4, State, System};
     use lie::num_traits::Float;
-    use lie::{Backend, M3, Real, S, So3Mat};
+    use lie::{Backend, M3, Real, S};
 
     pub struct Loop<B: Backend> {
         vehicle: Hexarotor<B>,
@@ -217,12 +217,7 @@ mod direct {
         }
         fn load(&mut self, t: S<B>, y: &State<B, 6>) -> Load<B, 6> {
             let mut rates = [S::<B>::lit(0.0); 6];
-            let st = VehicleState {
-                x: y.body.x,
-                v: y.body.v,
-                r: So3Mat::from_matrix_unchecked(y.body.r),
-                omega: y.body.omega,
-            };
+            let st = y.body.group();
             let nan = S::<B>::nan();
             let Ok(out) = self.mode.command(t, &st, &y.extra, &mut rates) else {
                 // The step then reports a non-finite load.

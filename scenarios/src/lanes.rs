@@ -5,7 +5,7 @@
 
 use controllers::{
     AccelerationModel, AttitudeGains, AttitudeReference, PositionGains, PositionInput,
-    PositionReference, RigidBodyParams, VehicleState, attitude_law, position_law,
+    PositionReference, RigidBodyParams, attitude_law, position_law,
 };
 use dynamics::Disturbance;
 use integrators::lanes::LaneSystem;
@@ -256,12 +256,7 @@ impl<L: SimdBackend> LaneSystem<L, 6> for PositionLoop<L> {
     #[inline(always)]
     fn load(&mut self, _t: S<L>, y: &State<L, 6>) -> Load<L, 6> {
         let [a0, a1, a2, p0, p1, p2] = y.extra;
-        let state = VehicleState {
-            x: y.body.x,
-            v: y.body.v,
-            r: So3Mat::<L>::from_matrix_unchecked(y.body.r),
-            omega: y.body.omega,
-        };
+        let state = y.body.group();
         let out = position_law(
             &self.params,
             &self.pos,

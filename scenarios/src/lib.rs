@@ -74,9 +74,9 @@ pub use from_scene::{
 pub use overrides::Overrides;
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, Divergence, DivergenceGuard, Health, RunOptions, RunOutput, RunReport,
-    Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
-    Termination, Until,
+    Condition, Control, Divergence, DivergenceGuard, Health, OpenLoop, RunOptions, RunOutput,
+    RunReport, Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder,
+    SwitchRecord, Termination, Until,
 };
 
 use lie::Backend;

@@ -3,8 +3,7 @@
 //! fitting.
 
 use dynamics::free_body::ExactFreeBody;
-use dynamics::{FreeRigidBody, Wrench};
-use integrators::{Integrator, OpenLoop, State, integrate_fixed};
+use integrators::{Integrator, State, integrate_fixed};
 use lie::{Backend, Real, S, ops};
 
 pub type M = [[f64; 3]; 3];
@@ -59,8 +58,7 @@ pub fn run_free<B: Backend, I: Integrator<B, 0>>(
     t_end: f64,
     n: usize,
 ) -> State<B, 0> {
-    let body = FreeRigidBody::<B>::diag123();
-    let mut sys = OpenLoop::new(&body, Wrench::zero());
+    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
     let mut y = free_start::<B>();
     let h = S::<B>::lit(t_end / n as f64);
     integrate_fixed(integ, &mut sys, S::<B>::lit(0.0), h, n, &mut y).expect("step");

@@ -2,11 +2,11 @@
 //! integrator sees. Also the scheduler's part of the loop (which segment is
 //! active, switching into the next).
 
-use controllers::{ControlError, ModeOutput, VehicleState};
+use controllers::{ControlError, ModeOutput};
 use dynamics::{RotorSpeedInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::num_traits::Float;
-use lie::{Backend, Real, S, So3Mat, V3};
+use lie::{Backend, Real, S, V3};
 
 use super::{Segment, SwitchRecord, Until};
 use dynamics::multirotor::MAX_ROTORS;
@@ -203,12 +203,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         speeds: &mut Option<([S<B>; MAX_ROTORS], usize)>,
     ) -> Option<ModeOutput<B>> {
         let seg = self.plan.get_mut(self.active)?;
-        let st = VehicleState {
-            x: y.body.x,
-            v: y.body.v,
-            r: So3Mat::from_matrix_unchecked(y.body.r),
-            omega: y.body.omega,
-        };
+        let st = y.body.group();
         let m = self.m;
         match seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m]) {
             Ok(mut out) => {
@@ -317,12 +312,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         self.active += 1;
         self.speeds_mode = self.plan[self.active].mode.commands_rotor_speeds();
         let m = self.m;
-        let st = VehicleState {
-            x: y.body.x,
-            v: y.body.v,
-            r: So3Mat::from_matrix_unchecked(y.body.r),
-            omega: y.body.omega,
-        };
+        let st = y.body.group();
         self.plan[self.active]
             .mode
             .enter(S::<B>::lit(t), &st, &mut y.extra[..m]);
