@@ -197,3 +197,57 @@ fn a_vehicle_without_rotor_speeds_refuses_them() {
         "{e}"
     );
 }
+
+/// The crazyflie idling (no thrust, no moment) for 0.1 s from rest, with
+/// the rotors' initial speeds given to the builder or not.
+fn idle_from(speeds: Option<&[f64]>) -> Result<RunOutput, SimError> {
+    let mut b = Simulation::<B, 16>::builder(Box::new(crazyflie()))
+        .dt(1e-3)
+        .duration(0.1)
+        .record_every(0.01)
+        .mode(
+            Idle {
+                psi: 0.0,
+                speeds: Vec::new(),
+            },
+            Until::Never,
+        );
+    if let Some(s) = speeds {
+        b = b.vehicle_states(s);
+    }
+    b.build()?.run(Default::default())
+}
+
+#[test]
+fn initial_rotor_speeds_given_to_the_builder_are_where_the_run_starts() {
+    // Hover speed of the crazyflie is about 2 300 rad/s; any value will do.
+    let given = [2000.0, 2100.0, 2200.0, 2300.0];
+    let run = idle_from(Some(&given)).expect("run");
+    assert_eq!(run.samples[0].vehicle_states, given.to_vec());
+    // Commanded to zero thrust, the motors spin down from there: every
+    // rotor slower at 0.1 s, none stopped yet (first-order lag).
+    let last = &run.samples.last().expect("samples").vehicle_states;
+    for (k, (w, w0)) in last.iter().zip(&given).enumerate() {
+        assert!(*w < *w0 && *w > 0.0, "rotor {k}: {w0} → {w} rad/s");
+    }
+    // Without them, the run starts where the first command puts the rotors
+    // (zero thrust: at rest), and stays there.
+    let default = idle_from(None).expect("run");
+    assert!(default.samples[0].vehicle_states.iter().all(|w| *w == 0.0));
+}
+
+#[test]
+fn bad_initial_rotor_speeds_are_refused_naming_the_field() {
+    for (speeds, says) in [
+        (&[1.0, 2.0, 3.0][..], "3 initial values given, the vehicle"),
+        (&[1.0, f64::NAN, 3.0, 4.0][..], "must be finite"),
+    ] {
+        match idle_from(Some(speeds)) {
+            Err(SimError::Setting { field, message }) => {
+                assert_eq!(field, "vehicle_states");
+                assert!(message.contains(says), "{message}");
+            }
+            other => panic!("{speeds:?}: expected a setting error, got {other:?}"),
+        }
+    }
+}

@@ -18,6 +18,7 @@ pub struct SimulationBuilder<'a, B: Backend, const N: usize = 6, I = Stepper<B, 
     pub(super) stepper: I,
     pub(super) initial: RigidBodyState<B>,
     pub(super) integrals: Vec<S<B>>,
+    pub(super) vehicle_states: Option<Vec<S<B>>>,
     pub(super) dt: f64,
     pub(super) duration: f64,
     pub(super) control: Control,
@@ -59,6 +60,14 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         self.integrals = values.to_vec();
         self
     }
+    /// Initial values of the vehicle's internal states (rotor speeds, say;
+    /// [`Vehicle::state_count`] of them, in the vehicle's order). Without
+    /// them, the run starts with the states where the first command puts
+    /// them (rotors spinning at the speeds of the first command).
+    pub fn vehicle_states(mut self, values: &[S<B>]) -> Self {
+        self.vehicle_states = Some(values.to_vec());
+        self
+    }
     /// Any integrator.
     pub fn integrator<J: Integrator<B, N>>(self, stepper: J) -> SimulationBuilder<'a, B, N, J> {
         SimulationBuilder {
@@ -68,6 +77,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
             stepper,
             initial: self.initial,
             integrals: self.integrals,
+            vehicle_states: self.vehicle_states,
             dt: self.dt,
             duration: self.duration,
             control: self.control,
@@ -200,6 +210,54 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
         Ok(())
     }
 
+    /// The initial state: the body (still when the vehicle does not
+    /// translate), the integral register and the vehicle's states given,
+    /// each checked for its length and finiteness.
+    fn initial_state(
+        &self,
+        integrals: usize,
+        vehicle_states: usize,
+    ) -> Result<State<B, N>, SimError> {
+        let finite = |field: &'static str, values: &[S<B>]| {
+            if values.iter().all(|v| v.is_finite()) {
+                return Ok(());
+            }
+            let shown: Vec<f64> = values.iter().map(|v| v.to_f64_lossless()).collect();
+            Err(bad(field, format!("{shown:?} must be finite")))
+        };
+        if self.integrals.len() > integrals {
+            return Err(bad(
+                "integrals",
+                format!(
+                    "{} initial values given, the plan's modes use {integrals}",
+                    self.integrals.len()
+                ),
+            ));
+        }
+        finite("integrals", &self.integrals)?;
+        let mut initial = State::<B, N>::new(self.initial);
+        if !self.vehicle.translates() {
+            initial.body.x = lie::ops::zero::<B>();
+            initial.body.v = lie::ops::zero::<B>();
+        }
+        initial.extra[..self.integrals.len()].copy_from_slice(&self.integrals);
+        if let Some(v) = &self.vehicle_states {
+            if v.len() != vehicle_states {
+                return Err(bad(
+                    "vehicle_states",
+                    format!(
+                        "{} initial values given, the vehicle `{}` has {vehicle_states} internal states",
+                        v.len(),
+                        self.vehicle.name()
+                    ),
+                ));
+            }
+            finite("vehicle_states", v)?;
+            initial.extra[integrals..integrals + vehicle_states].copy_from_slice(v);
+        }
+        Ok(initial)
+    }
+
     /// Checks every setting and lays out the extra states.
     pub fn build(self) -> Result<Simulation<'a, B, N, I>, SimError> {
         self.check_settings()?;
@@ -218,33 +276,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
                 capacity: N,
             });
         }
-        if self.integrals.len() > integrals {
-            return Err(bad(
-                "integrals",
-                format!(
-                    "{} initial values given, the plan's modes use {integrals}",
-                    self.integrals.len()
-                ),
-            ));
-        }
-        if self.integrals.iter().any(|v| !v.is_finite()) {
-            return Err(bad(
-                "integrals",
-                format!(
-                    "{:?} must be finite",
-                    self.integrals
-                        .iter()
-                        .map(|v| v.to_f64_lossless())
-                        .collect::<Vec<_>>()
-                ),
-            ));
-        }
-        let mut initial = State::<B, N>::new(self.initial);
-        if !self.vehicle.translates() {
-            initial.body.x = lie::ops::zero::<B>();
-            initial.body.v = lie::ops::zero::<B>();
-        }
-        initial.extra[..self.integrals.len()].copy_from_slice(&self.integrals);
+        let initial = self.initial_state(integrals, vehicle_states)?;
         if lie::ops::inverse::<B>(self.vehicle.inertia()).is_none() {
             return Err(bad("vehicle", "its inertia is singular".into()));
         }
@@ -283,6 +315,7 @@ impl<'a, B: Backend, const N: usize, I: Integrator<B, N>> SimulationBuilder<'a, 
                 t_end: self.duration,
                 record: self.record,
                 locate_events: self.locate_events,
+                vehicle_states_given: self.vehicle_states.is_some(),
             },
         )?;
         running.out.warnings.extend(self.warnings);

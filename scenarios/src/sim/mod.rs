@@ -212,6 +212,7 @@ impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
             stepper: Stepper::new(IntegratorKind::Rk4, StepperConfig::default()),
             initial: RigidBodyState::at_rest(),
             integrals: Vec::new(),
+            vehicle_states: None,
             dt: 1e-3,
             duration: 1.0,
             control: Control::Continuous,
@@ -397,7 +398,10 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
     /// held at a breakpoint branch picks its branch from the state again;
     /// under sampled control the held command stays until the next control
     /// instant, as on a flight computer). Change it only to finite values:
-    /// the first step checks them.
+    /// the first step checks them. Before the first step, the vehicle's
+    /// internal states are still to be set from the first command; to
+    /// start from states of one's own, give them to the builder
+    /// ([`SimulationBuilder::vehicle_states`]), which keeps them.
     pub fn state_mut(&mut self) -> SimStateMut<'_, B> {
         self.perturbed = true;
         let (m, nv) = (self.integrals, self.vehicle_states);

@@ -50,6 +50,9 @@ pub(crate) struct Running<B: Backend, const N: usize> {
     pub done: Option<Termination>,
     pub out: RunOutput,
     started: bool,
+    /// The builder was given the vehicle's internal states: the first
+    /// command does not set them.
+    vehicle_states_given: bool,
     dt: f64,
     t_end: f64,
     /// The checkpoint the steps are heading for.
@@ -109,6 +112,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
         done: None,
         out,
         started: false,
+        vehicle_states_given: s.vehicle_states_given,
         dt: s.dt,
         t_end: s.t_end,
         t_next: grid.next(s.t_end),
@@ -141,6 +145,7 @@ pub(crate) struct Settings {
     pub t_end: f64,
     pub record: f64,
     pub locate_events: bool,
+    pub vehicle_states_given: bool,
 }
 
 /// [`Simulation::advance_to_with`]: the loop rebuilt around the
@@ -181,7 +186,7 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
     let mut result = Ok(());
     if !r.started {
         r.started = true;
-        result = begin(&mut sys, &mut emit, &mut r.out, y);
+        result = begin(&mut sys, &mut emit, &mut r.out, y, r.vehicle_states_given);
     }
     if std::mem::take(perturbed) {
         stepper.reset();
@@ -230,7 +235,8 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
         };
         if !r.started {
             r.started = true;
-            begin(&mut sys, &mut emit, &mut r.out, &mut y)?;
+            let given = r.vehicle_states_given;
+            begin(&mut sys, &mut emit, &mut r.out, &mut y, given)?;
         }
         r.done = Some(Termination::Interrupted { t: r.t });
         // A record instant the run paused on was sampled already (labelled
@@ -528,18 +534,20 @@ fn breakpoints<B: Backend, const N: usize>(
 
 /// The start of a run: the held command of sampled control, the vehicle's
 /// internal states where the first command puts them (spinning rotors,
-/// say), the sink told the mode names, and the first sample.
+/// say) unless the builder was given them, the sink told the mode names,
+/// and the first sample.
 fn begin<B: Backend, const N: usize>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     emit: &mut Emit<'_, '_>,
     out: &mut RunOutput,
     y: &mut State<B, N>,
+    vehicle_states_given: bool,
 ) -> Result<(), SimError> {
     let l = S::<B>::lit;
     if sys.sampled {
         sys.held = sys.command(l(0.0), y);
     }
-    if sys.nv > 0 {
+    if sys.nv > 0 && !vehicle_states_given {
         let (m, nv) = (sys.m, sys.nv);
         let first = sys.command(l(0.0), y);
         let states = &mut y.extra[m..m + nv];
