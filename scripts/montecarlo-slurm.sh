@@ -12,7 +12,8 @@
 #
 # DRY_RUN=1 prints the commands instead of submitting them, and
 # LOCAL=1 runs them here one after the other (the test of the shard and
-# merge logic without Slurm).
+# merge logic without Slurm). XTASK=path uses that xtask binary instead of
+# building one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,14 +28,21 @@ done
 out=target/montecarlo/$experiment
 cpus=${CPUS_PER_TASK:-2}
 
-# Build once on the submitting node (the shared target directory).
-cargo build -q -p xtask
+# Build once on the submitting node (the shared target directory), unless
+# XTASK names an xtask binary already built (CI passes the one its
+# workspace test build made).
+if [[ -n "${XTASK:-}" ]]; then
+    xtask=$XTASK
+else
+    cargo build -q -p xtask
+    xtask=target/debug/xtask
+fi
 
-shard_cmd() { echo "target/debug/xtask montecarlo ${args[*]} --threads $cpus --shard $1/$shards --out $out/shard-$1-of-$shards"; }
+shard_cmd() { echo "$xtask montecarlo ${args[*]} --threads $cpus --shard $1/$shards --out $out/shard-$1-of-$shards"; }
 merge_cmd() {
     local dirs=()
     for ((k = 0; k < shards; k++)); do dirs+=("$out/shard-$k-of-$shards"); done
-    echo "target/debug/xtask montecarlo merge ${dirs[*]} --out $out"
+    echo "$xtask montecarlo merge ${dirs[*]} --out $out"
 }
 
 if [[ "${LOCAL:-0}" == 1 ]]; then
@@ -52,7 +60,7 @@ cat > "$array_script" <<SLURM
 #SBATCH --output=$out/slurm-%A_%a.log
 set -euo pipefail
 k=\$SLURM_ARRAY_TASK_ID
-target/debug/xtask montecarlo ${args[*]} --threads $cpus --shard \$k/$shards --out $out/shard-\$k-of-$shards
+$xtask montecarlo ${args[*]} --threads $cpus --shard \$k/$shards --out $out/shard-\$k-of-$shards
 SLURM
 
 if [[ "${DRY_RUN:-0}" == 1 ]]; then

@@ -11,6 +11,9 @@
 # LOCAL=1 mode instead; it never reports a Slurm pass it did not see.
 #
 #   scripts/slurm-ci.sh [SHARDS] [montecarlo options…]
+#
+# XTASK=path runs that xtask binary instead of `cargo xtask` (passed on to
+# scripts/montecarlo-slurm.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,7 +38,8 @@ fallback() {
 }
 
 compare() {
-    cargo xtask montecarlo "${args[@]}" --out "$single" >/dev/null
+    if [[ -n "${XTASK:-}" ]]; then "$XTASK" montecarlo "${args[@]}" --out "$single" >/dev/null
+    else cargo xtask montecarlo "${args[@]}" --out "$single" >/dev/null; fi
     cmp "$out/samples.csv" "$single/samples.csv"
     echo "slurm ($1): $shards shards merged = one run: cmp $out/samples.csv $single/samples.csv: identical ($(($(wc -l < "$single/samples.csv") - 1)) samples)"
 }
