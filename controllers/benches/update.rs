@@ -134,8 +134,7 @@ fn hand_benches(c: &mut Criterion) {
             let o = $m::position(&i).unwrap();
             // Same formulas in the same order up to the compiler's freedom:
             // agreement to a few ulps of O(10) quantities.
-            let tol =
-                1e3 * Real::to_f64_lossless(<lie::S<$b> as lie::num_traits::Float>::epsilon());
+            let tol = 1e3 * Real::to_f64_lossless(<lie::S<$b> as lie::Real>::epsilon());
             assert!(((o.f - g.thrust) as f64).abs() < tol, "{} thrust", $name);
             assert!(((o.m - g.moment).length() as f64) < tol, "{} moment", $name);
             assert!(

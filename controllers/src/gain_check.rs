@@ -33,7 +33,6 @@
 
 use crate::{AttitudeGains, PositionGains, RigidBodyParams};
 #[allow(unused_imports)] // needed for f64 maths without std (libm through num-traits)
-use lie::num_traits::Float;
 use lie::{Backend, Real};
 
 /// The bounds the conditions are stated with.

@@ -75,7 +75,7 @@ pub use mode::{
     AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition, Mode,
     ModeOutput, PositionMode, PositionSource,
 };
-pub use mode_scheduler::{Leave, Phase, Scheduler, Switch};
+pub use mode_scheduler::{NoCondition, Phase, Scheduler, Segment, Switch, Until};
 pub use position_pid::{
     AccelerationModel, Degeneracy, Mask, PositionGains, PositionInput, PositionOutput,
     PositionReference, SatBranch, VehicleState, position_control, position_law,

@@ -5,7 +5,6 @@
 
 use crate::attitude_pid::{AttitudeGains, AttitudeReference, attitude_law};
 use crate::{ControlError, RigidBodyParams};
-use lie::num_traits::Float;
 use lie::ops::{cmul, is_finite_vec as is_finite, norm, zero};
 use lie::{AttitudeErrors, Backend, Real, Rotation, S, SimdMask, SimdReal, V3};
 
@@ -576,7 +575,7 @@ pub fn position_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     // b3c = u/‖u‖, u = −A, and its derivatives; (eqn:A1) guarded.
     let (u, ud, udd) = (-a_cmd, -a_dot, -a_ddot);
     let n = norm::<B>(u);
-    let root_eps = S::<B>::simd_splat(<Element<B> as Float>::epsilon()).simd_sqrt();
+    let root_eps = S::<B>::simd_splat(<Element<B> as Real>::epsilon()).simd_sqrt();
     let a_floor = root_eps * m * g;
     let ((b3, b3d, b3dd, q3, inv3), thrust_ok) = thrust_axis::<B>((u, ud, udd), n, a_floor, re3);
     let thrust_undefined = !thrust_ok;

@@ -63,11 +63,11 @@ fn time_switch_carries_e_att_and_resets_e_pos() {
     let mut plan = [
         Phase {
             mode: &mut att,
-            until: Leave::At(0.4),
+            until: Until::Time(0.4),
         },
         Phase {
             mode: &mut pos,
-            until: Leave::Never,
+            until: Until::Never,
         },
     ];
     let mut sched = Scheduler::new(&mut plan).unwrap();
@@ -120,11 +120,11 @@ fn psi_switch_waits_for_the_attitude_error() {
     let mut plan = [
         Phase {
             mode: &mut att,
-            until: Leave::PsiBelow(0.01),
+            until: Until::PsiBelow(0.01),
         },
         Phase {
             mode: &mut pos,
-            until: Leave::Never,
+            until: Until::Never,
         },
     ];
     let mut sched = Scheduler::new(&mut plan).unwrap();

@@ -64,7 +64,7 @@
 
 use core::fmt;
 
-use lie::num_traits::{Float, Zero};
+use lie::num_traits::Zero;
 use lie::{Backend, M3, Real, S, V3, ops};
 
 pub mod free_body;

@@ -25,7 +25,7 @@
 //! with `s_i = ±1` RotorPy's `rotor_directions` entry (its `+1` rotor has a
 //! reaction moment along RotorPy's `+z`, which is `−e3` here).
 
-use lie::num_traits::{Float, One, Zero};
+use lie::num_traits::{One, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
 use crate::{

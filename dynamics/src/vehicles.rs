@@ -1,7 +1,7 @@
 //! The shipped vehicles.
 
 use crate::paper;
-use lie::num_traits::{Float, Zero};
+use lie::num_traits::Zero;
 use lie::{Backend, M3, Real, S, V3, ops};
 
 use crate::{
@@ -24,7 +24,7 @@ pub struct RotorLimits<B: Backend> {
 mod rotors {
     use super::RotorLimits;
     use crate::{DynamicsError, Wrench};
-    use lie::num_traits::Float;
+    use lie::Real;
     use lie::{Backend, S};
 
     /// The wrench of thrusts `f` under allocation `a`, each row summed left

@@ -370,7 +370,7 @@ fn hexarotor_minimum_norm_allocation() {
 fn allocation_on<P: Backend>() {
     let q = Quadrotor::<P>::paper();
     let l = S::<P>::lit;
-    let eps = <S<P> as lie::num_traits::Float>::epsilon().to_f64_lossless();
+    let eps = <S<P> as lie::Real>::epsilon().to_f64_lossless();
     let w = Wrench::<P> {
         thrust: l(8.0),
         moment: P::vec3(l(0.1), l(-0.05), l(0.01)),

@@ -1,7 +1,7 @@
 //! Adaptive embedded Dormand–Prince 5(4) on the embedding, for reference
 //! solutions.
 
-use lie::num_traits::{Float, Zero};
+use lie::num_traits::Zero;
 use lie::{Backend, Real, S, SimdBackend, SimdReal, ops};
 
 use crate::Load;
@@ -82,7 +82,7 @@ impl<B: Backend> Dopri<B> {
     /// [`Dopri::floor`] is raised to it.
     pub fn new(tol: S<B>) -> Self {
         let floor = Self::floor();
-        let tol = if Float::is_finite(tol) && tol > floor {
+        let tol = if Real::is_finite(tol) && tol > floor {
             tol
         } else {
             floor
@@ -152,7 +152,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
             }
             let (next, k7, err) = trial(sys, &body, &cur, &k1, &zero_state, (tc, hs), &mut stats)?;
             let en = error_norm(self.atol, self.rtol, &body, (&cur, &next, &err));
-            if !Float::is_finite(en) {
+            if !Real::is_finite(en) {
                 return Err(StepError::NonFinite {
                     field: "dopri error estimate",
                     t: tc.to_f64_lossless(),

@@ -18,7 +18,8 @@
 //! length, as [`crate::Dopri`] does inside a simulation's fixed grid, and
 //! reports when it arrives at the end of one.
 
-use lie::num_traits::{Float, One, Zero};
+use lie::Real;
+use lie::num_traits::{One, Zero};
 use lie::{Backend, M3, S, SimdBackend, SimdMask, SimdReal, ops};
 
 mod lgvi;
@@ -257,9 +258,9 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
     /// If the backend has more than 16 lanes.
     pub fn new(tol: f64, call: f64, max_substeps: u32) -> Self {
         assert!(<S<B> as SimdReal>::LANES <= MAX_LANES, "at most 16 lanes");
-        let eps = <<S<B> as SimdReal>::Element as Float>::epsilon();
+        let eps = <<S<B> as SimdReal>::Element as Real>::epsilon();
         let t = <<S<B> as SimdReal>::Element as lie::Real>::lit(tol);
-        let tol = if Float::is_finite(t) && t > eps {
+        let tol = if Real::is_finite(t) && t > eps {
             t
         } else {
             eps
@@ -448,7 +449,7 @@ impl<B: SimdBackend, const N: usize> DopriLanes<B, N> {
         let rejected = S::<B>::simd_select(accept, hs, hs * fac.simd_min(one));
         self.hs = S::<B>::simd_select(moving, hs * fac, rejected);
         let floor = (self.t.simd_abs() + l(self.call))
-            * S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Float>::epsilon())
+            * S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Real>::epsilon())
             * l(16.0);
         let too_small = self.hs.simd_le(floor).bitmask();
         let (finite, accept, arrived_bits) =

@@ -1,7 +1,7 @@
 //! The Lie group variational integrator of Lee, Leok & McClamroch in its
 //! trapezoidal (symmetric, order 2) form.
 
-use lie::num_traits::{Float, One};
+use lie::num_traits::One;
 use lie::{Backend, M3, Real, S, V3, hat, ops};
 
 use crate::rk::{Body, check_h, eval, finish};
@@ -129,7 +129,7 @@ pub(crate) struct Solve<B: Backend> {
 }
 
 /// `max |v_i|`, lane-wise on lane backends (for `f32`/`f64` these are
-/// `Float::abs` and `Float::max`).
+/// `Real::abs` and `Real::max`).
 #[inline(always)]
 pub(crate) fn inf_norm<B: lie::SimdBackend>(v: V3<B>) -> S<B> {
     use lie::SimdReal as _;
@@ -172,7 +172,7 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
         f = f - df;
         let step = inf_norm::<B>(df);
         let scale = S::<B>::one() + inf_norm::<B>(f);
-        if !Float::is_finite(step) {
+        if !Real::is_finite(step) {
             break;
         }
         // Converged: at the rounding floor, or stalled there (Newton on a
@@ -195,7 +195,7 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
         f,
         iterations,
         residual,
-        converged: converged && near_root && Float::is_finite(residual),
+        converged: converged && near_root && Real::is_finite(residual),
     }
 }
 

@@ -5,8 +5,8 @@
 //! controller's integral terms, say), and a load function returning the
 //! total inertial force, the body moment and the extra states' rates. They
 //! are therefore not tied to a vehicle, and this crate depends on `lie`
-//! alone: [`problems::TorqueFree`] and [`problems::HeavyTop`] are test
-//! problems, `scenarios::OpenLoop` runs a `dynamics` vehicle under a held
+//! alone: [`problems::Top`] (the torque-free body or the heavy top) is a
+//! test problem, `scenarios::OpenLoop` runs a `dynamics` vehicle under a held
 //! wrench, and the scenario runner's closed loop is one more `System`.
 //!
 //! | stepper | order | on SO(3) | loads per step | notes |
@@ -35,11 +35,11 @@
 //!
 //! ```
 //! use integrators::{Lgvi, Rk4, State, System, integrate_fixed};
-//! use integrators::problems::TorqueFree;
+//! use integrators::problems::Top;
 //! use lie::{Backend, NalgebraF64, RigidState, Rotation, So3Mat, ops};
 //! type B = NalgebraF64;
 //!
-//! let body = TorqueFree::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0));
+//! let body = Top::<B>::free(ops::diag::<B>(1.0, 2.0, 3.0));
 //! let energy = |y: &State<B, 0>| {
 //!     let w = y.body.omega;
 //!     0.5 * B::dot(w, body.inertia() * w)
@@ -208,12 +208,12 @@ impl std::error::Error for StepError {}
 ///
 /// ```
 /// use integrators::{Integrator, Rk4, Rkmk4, State, integrate_fixed};
-/// use integrators::problems::TorqueFree;
+/// use integrators::problems::Top;
 /// use lie::{Backend, NalgebraF64, RigidState, ops};
 /// type B = NalgebraF64;
 ///
 /// fn step_error<I: Integrator<B, 0> + Default>(h: f64) -> f64 {
-///     let mut sys = TorqueFree::<B>::new(ops::diag::<B>(1.0, 2.0, 3.0));
+///     let mut sys = Top::<B>::free(ops::diag::<B>(1.0, 2.0, 3.0));
 ///     let mut start = State::<B, 0>::new(RigidState::at_rest());
 ///     start.body.omega = B::vec3(1.0, 0.5, -0.3);
 ///     let (mut one, mut fine) = (start, start);

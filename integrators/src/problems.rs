@@ -7,29 +7,55 @@ use crate::{Integrator, StepError};
 
 use crate::{Load, State, System};
 
-/// The heavy top (a 3D pendulum on a fixed pivot, translation suppressed):
-/// `J Ω̇ + Ω × JΩ = m g ρ × Rᵀe3`, with `ρ` the centre of mass from the pivot
-/// in body coordinates (e3 down). Invariants: the energy
+/// A rigid body turning about a fixed point under gravity, translation
+/// suppressed: `J Ω̇ + Ω × JΩ = m g ρ × Rᵀe3`, with `ρ` the centre of mass
+/// from the pivot in body coordinates (e3 down). Invariants: the energy
 /// `½ΩᵀJΩ − m g e3ᵀRρ` and the vertical momentum `e3ᵀRJΩ`.
+///
+/// With the centre of mass at the pivot (`ρ = 0`, [`Top::free`]) it is the
+/// torque-free body of Euler's equations: then the whole spatial angular
+/// momentum `R J Ω` is conserved too, and for a diagonal `J` the solution
+/// is known in closed form (Jacobi elliptic functions), so it measures a
+/// stepper's order and drift. With `ρ ≠ 0` ([`Top::heavy`]) it is the
+/// heavy top (a 3D pendulum), whose moment depends on the attitude.
 #[derive(Copy, Clone, Debug)]
-pub struct HeavyTop<B: Backend> {
+pub struct Top<B: Backend> {
     inertia: M3<B>,
     inertia_inv: M3<B>,
     /// `m g ρ`, N m.
     pub mg_rho: V3<B>,
 }
 
-impl<B: Backend> HeavyTop<B> {
-    /// `J = diag(1, 2, 3)`, `m g ρ = (0, 0.5, 1)`: the problem of the
-    /// integrator note.
-    pub fn standard() -> Self {
+impl<B: Backend> Top<B> {
+    /// The torque-free body of inertia `inertia` (a singular one has a NaN
+    /// inverse, so the first step fails with a non-finite state).
+    pub fn free(inertia: M3<B>) -> Self {
+        Self::heavy(inertia, ops::zero::<B>())
+    }
+
+    /// The torque-free body with `J = diag(1, 2, 3)`, the usual test body.
+    pub fn free_diag123() -> Self {
         let l = S::<B>::lit;
-        let inertia = ops::diag::<B>(l(1.0), l(2.0), l(3.0));
+        Self::free(ops::diag::<B>(l(1.0), l(2.0), l(3.0)))
+    }
+
+    /// The heavy top of inertia `inertia` about the pivot, with `m g ρ`.
+    pub fn heavy(inertia: M3<B>, mg_rho: V3<B>) -> Self {
         Self {
             inertia,
-            inertia_inv: ops::inverse::<B>(inertia).expect("diagonal, positive"),
-            mg_rho: B::vec3(l(0.0), l(0.5), l(1.0)),
+            inertia_inv: inverse_or_nan::<B>(inertia),
+            mg_rho,
         }
+    }
+
+    /// The heavy top of the integrator tests: `J = diag(1, 2, 3)`,
+    /// `m g ρ = (0, 0.5, 1)`.
+    pub fn heavy_standard() -> Self {
+        let l = S::<B>::lit;
+        Self::heavy(
+            ops::diag::<B>(l(1.0), l(2.0), l(3.0)),
+            B::vec3(l(0.0), l(0.5), l(1.0)),
+        )
     }
 
     fn down_body(r: M3<B>) -> V3<B> {
@@ -37,20 +63,25 @@ impl<B: Backend> HeavyTop<B> {
         B::mat3_tr_mul_vec(r, B::vec3(z, z, S::<B>::lit(1.0)))
     }
 
-    /// Total energy.
-    pub fn energy<const N: usize>(&self, y: &State<B, N>) -> S<B> {
-        let w = y.body.omega;
+    /// Total energy `½ΩᵀJΩ − m g e3ᵀRρ`.
+    pub fn energy(&self, body: &RigidState<B, M3<B>>) -> S<B> {
+        let w = body.omega;
         S::<B>::lit(0.5) * B::dot(w, self.inertia * w)
-            - B::dot(Self::down_body(y.body.r), self.mg_rho)
+            - B::dot(Self::down_body(body.r), self.mg_rho)
     }
 
-    /// Vertical angular momentum `e3ᵀ R J Ω`.
-    pub fn vertical_momentum<const N: usize>(&self, y: &State<B, N>) -> S<B> {
-        B::dot(Self::down_body(y.body.r), self.inertia * y.body.omega)
+    /// Spatial angular momentum `π = R J Ω` (conserved when `ρ = 0`).
+    pub fn momentum(&self, body: &RigidState<B, M3<B>>) -> V3<B> {
+        body.r * (self.inertia * body.omega)
+    }
+
+    /// Vertical angular momentum `e3ᵀ R J Ω` (conserved for every `ρ`).
+    pub fn vertical_momentum(&self, body: &RigidState<B, M3<B>>) -> S<B> {
+        B::dot(Self::down_body(body.r), self.inertia * body.omega)
     }
 }
 
-impl<B: Backend> System<B, 0> for HeavyTop<B> {
+impl<B: Backend> System<B, 0> for Top<B> {
     fn mass(&self) -> S<B> {
         S::<B>::lit(1.0)
     }
@@ -70,68 +101,6 @@ impl<B: Backend> System<B, 0> for HeavyTop<B> {
         Load {
             force: ops::zero::<B>(),
             moment: B::cross(self.mg_rho, Self::down_body(y.body.r)),
-            extra_rate: [],
-        }
-    }
-}
-
-/// The torque-free rigid body (Euler's equations, no translation): energy
-/// `½ΩᵀJΩ` and spatial angular momentum `R J Ω` are conserved, and for a
-/// diagonal `J` the solution is known in closed form (Jacobi elliptic
-/// functions), so it measures a stepper's order and drift.
-#[derive(Copy, Clone, Debug)]
-pub struct TorqueFree<B: Backend> {
-    inertia: M3<B>,
-    inertia_inv: M3<B>,
-}
-
-impl<B: Backend> TorqueFree<B> {
-    /// A body of inertia `inertia` (a singular one has a NaN inverse, so
-    /// the first step fails with a non-finite state).
-    pub fn new(inertia: M3<B>) -> Self {
-        Self {
-            inertia,
-            inertia_inv: inverse_or_nan::<B>(inertia),
-        }
-    }
-
-    /// `J = diag(1, 2, 3)`, the usual test body.
-    pub fn diag123() -> Self {
-        let l = S::<B>::lit;
-        Self::new(ops::diag::<B>(l(1.0), l(2.0), l(3.0)))
-    }
-
-    /// Kinetic energy `½ΩᵀJΩ`.
-    pub fn energy(&self, body: &RigidState<B, M3<B>>) -> S<B> {
-        S::<B>::lit(0.5) * B::dot(body.omega, self.inertia * body.omega)
-    }
-
-    /// Spatial angular momentum `π = R J Ω`.
-    pub fn momentum(&self, body: &RigidState<B, M3<B>>) -> V3<B> {
-        body.r * (self.inertia * body.omega)
-    }
-}
-
-impl<B: Backend> System<B, 0> for TorqueFree<B> {
-    fn mass(&self) -> S<B> {
-        S::<B>::lit(1.0)
-    }
-    fn inertia(&self) -> M3<B> {
-        self.inertia
-    }
-    fn inertia_inv(&self) -> M3<B> {
-        self.inertia_inv
-    }
-    fn translates(&self) -> bool {
-        false
-    }
-    fn load_depends_on_rates(&self) -> bool {
-        false
-    }
-    fn load(&mut self, _t: S<B>, _y: &State<B, 0>) -> Load<B, 0> {
-        Load {
-            force: ops::zero::<B>(),
-            moment: ops::zero::<B>(),
             extra_rate: [],
         }
     }
@@ -170,7 +139,7 @@ pub fn free_body_invariants<B: Backend, I: Integrator<B, 0>>(
     steps: usize,
     checkpoints: usize,
 ) -> Result<InvariantTrace, StepError> {
-    let mut sys = TorqueFree::<B>::diag123();
+    let mut sys = Top::<B>::free_diag123();
     let mut y = crate::State::<B, 0>::new(free_body_start::<B>());
     let f = |x: V3<B>| B::vec3_to_array(x).map(|c| c.to_f64_lossless());
     let e0 = sys.energy(&y.body).to_f64_lossless();

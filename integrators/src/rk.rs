@@ -153,7 +153,7 @@ pub(crate) fn increment<B: SimdBackend, const N: usize, const K: usize>(
 }
 
 pub(crate) fn check_h<B: Backend>(h: S<B>) -> Result<(), StepError> {
-    if !(lie::num_traits::Float::is_finite(h) && h > S::<B>::zero()) {
+    if !(lie::Real::is_finite(h) && h > S::<B>::zero()) {
         return Err(StepError::InvalidStep {
             h: h.to_f64_lossless(),
         });

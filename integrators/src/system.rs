@@ -34,18 +34,14 @@ impl<B: Backend, const N: usize> State<B, N> {
             & self
                 .extra
                 .iter()
-                .fold(true, |ok, e| ok & lie::num_traits::Float::is_finite(*e));
+                .fold(true, |ok, e| ok & lie::Real::is_finite(*e));
         if finite {
             return None;
         }
         if let Some(f) = self.body.non_finite_field() {
             return Some(f);
         }
-        if self
-            .extra
-            .iter()
-            .any(|e| !lie::num_traits::Float::is_finite(*e))
-        {
+        if self.extra.iter().any(|e| !lie::Real::is_finite(*e)) {
             return Some("extra");
         }
         None
@@ -73,7 +69,7 @@ impl<B: Backend, const N: usize> Load<B, N> {
             & self
                 .extra_rate
                 .iter()
-                .fold(true, |ok, e| ok & lie::num_traits::Float::is_finite(*e))
+                .fold(true, |ok, e| ok & lie::Real::is_finite(*e))
     }
 }
 
@@ -141,7 +137,7 @@ pub trait System<B: Backend, const N: usize> {
 /// what a [`System`] caching its inverse inertia stores.
 pub fn inverse_or_nan<B: Backend>(m: M3<B>) -> M3<B> {
     ops::inverse::<B>(m).unwrap_or_else(|| {
-        let nan = <S<B> as lie::num_traits::Float>::nan();
+        let nan = <S<B> as lie::Real>::nan();
         ops::diag::<B>(nan, nan, nan) * nan
     })
 }

@@ -130,7 +130,7 @@ fn dopri_matches_the_exact_free_body() {
     let ex = exact();
     let t_end = 10.0;
     let mut integ = Dopri::<B>::new(1e-12).max_substeps(100_000);
-    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+    let mut sys = integrators::problems::Top::<B>::free_diag123();
     let mut y = free_start::<B>();
     let mut worst: f64 = 0.0;
     let mut evals = 0;
@@ -156,7 +156,7 @@ fn dopri_matches_the_exact_free_body() {
 /// succeeds and matches a run at the halved step.
 #[test]
 fn lgvi_step_limit_is_detected_and_handled() {
-    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+    let mut sys = integrators::problems::Top::<B>::free_diag123();
     let mut y = free_start::<B>();
     let w = vec_dist(OMEGA0, [0.0; 3]);
     let h = 1.3 / w; // h‖Ω‖ = 1.3
@@ -188,7 +188,7 @@ fn lgvi_step_limit_is_detected_and_handled() {
 #[test]
 fn lgvi_newton_iterations_are_few() {
     for (h, bound) in [(0.01, 4), (0.1, 6), (0.35, 8)] {
-        let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+        let mut sys = integrators::problems::Top::<B>::free_diag123();
         let mut y = free_start::<B>();
         let mut integ = Lgvi::<B, 0>::default();
         let mut worst = 0;
@@ -254,7 +254,7 @@ fn every_stepper_in_f32_and_f64() {
 /// call without the cap succeeds.
 #[test]
 fn dopri_substep_cap() {
-    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+    let mut sys = integrators::problems::Top::<B>::free_diag123();
     let y0 = free_start::<B>();
     let mut y = y0;
     let err = Dopri::<B>::new(1e-12)

@@ -10,7 +10,7 @@
 mod common;
 
 use common::*;
-use integrators::problems::HeavyTop;
+use integrators::problems::Top;
 use integrators::{
     Dopri, Euler, Integrator, Lgvi, Rk4, Rkmk4, State, Stepper, StepperConfig, integrate_fixed,
 };
@@ -103,7 +103,7 @@ fn heavy_start() -> State<B, 0> {
 }
 
 fn run_heavy<I: Integrator<B, 0>>(integ: &mut I, t_end: f64, n: usize) -> State<B, 0> {
-    let mut sys = HeavyTop::<B>::standard();
+    let mut sys = Top::<B>::heavy_standard();
     let mut y = heavy_start();
     integrate_fixed(integ, &mut sys, 0.0, t_end / n as f64, n, &mut y).unwrap();
     y
@@ -116,7 +116,7 @@ fn heavy_top_orders_against_a_tight_reference() {
     // `conservation.rs` (≤ 1e-10 at tol 1e-12), far below the smallest error
     // fitted here (~1e-9).
     let mut reference = heavy_start();
-    let mut sys = HeavyTop::<B>::standard();
+    let mut sys = Top::<B>::heavy_standard();
     Dopri::<B>::new(1e-13)
         .max_substeps(100_000)
         .step(&mut sys, 0.0, t_end, &mut reference)
@@ -181,7 +181,7 @@ fn exact_free_body_holds_at_100_rad_per_s() {
     let omega0 = [3.0, -2.0, 100.0];
     let r0 = mat_f64::<lie::NalgebraF64>(r0::<lie::NalgebraF64>());
     let ex = dynamics::free_body::ExactFreeBody::new([1.0, 2.0, 3.0], omega0, r0).unwrap();
-    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+    let mut sys = integrators::problems::Top::<B>::free_diag123();
     let mut y = free_start::<B>();
     y.body.omega = B::vec3(omega0[0], omega0[1], omega0[2]);
     let (t_end, n) = (2.0, 200_000);

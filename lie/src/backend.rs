@@ -223,7 +223,7 @@ pub type M3<B> = <B as SimdBackend>::Mat3;
 /// instead of re-deriving zero vectors, norms and 3×3 inverses per crate.
 pub mod ops {
     use super::*;
-    use num_traits::{Float, One, Zero};
+    use num_traits::{One, Zero};
 
     /// The zero vector.
     #[inline(always)]

@@ -174,8 +174,8 @@ impl core::fmt::Display for LieError {
 impl core::error::Error for LieError {}
 
 /// The usual imports: `use lie::prelude::*;` brings the traits, the
-/// backends, the scalar and vector aliases, `ops` and `Float`, so generic
-/// code needs nothing else:
+/// backends, the scalar and vector aliases and `ops`, so generic code needs
+/// nothing else (the scalar's elementary functions are methods of [`Real`]):
 ///
 /// ```
 /// use lie::prelude::*;
@@ -187,7 +187,7 @@ impl core::error::Error for LieError {}
 /// }
 /// let r = So3Mat::<GlamF64>::exp(glam::DVec3::new(0.0, 0.3, 0.4));
 /// assert!((angle(r) - 0.5).abs() < 1e-15);
-/// assert!(Float::abs(angle(r) - 0.5) < 1e-15);
+/// assert!(Real::abs(angle(r) - 0.5) < 1e-15);
 /// ```
 pub mod prelude {
     pub use crate::{
@@ -198,6 +198,4 @@ pub mod prelude {
     pub use crate::{GlamF32, GlamF32A, GlamF64};
     #[cfg(feature = "nalgebra")]
     pub use crate::{NalgebraF32, NalgebraF64};
-    /// The scalar's floating-point methods (`sqrt`, `atan2`, `epsilon`, …).
-    pub use num_traits::Float;
 }

@@ -3,8 +3,8 @@
 
 use crate::backend::ops;
 use crate::convert::{log_wxyz, shepperd, to_matrix};
-use crate::{AttitudeErrors, Backend, M3, Rotation, S, SimdBackend, SimdReal, V3, series};
-use num_traits::{Float, One, Zero};
+use crate::{AttitudeErrors, Backend, M3, Real, Rotation, S, SimdBackend, SimdReal, V3, series};
+use num_traits::{One, Zero};
 
 /// A rotation stored as a unit quaternion of the backend's own type
 /// (`glam::Quat`, `glam::DQuat`, `nalgebra::UnitQuaternion`).

@@ -11,7 +11,7 @@ use crate::{
     AttitudeErrors, Backend, LieError, M3, Real, Rotation, S, SimdBackend, SimdMask, SimdReal, V3,
     convert, series,
 };
-use num_traits::{Float, One, Zero};
+use num_traits::{One, Zero};
 
 /// `hat(x)`, the skew matrix with `hat(x) y = x × y`.
 #[inline]
@@ -194,7 +194,7 @@ impl<B: SimdBackend> So3Mat<B> {
         type Mask<B> = <S<B> as SimdReal>::Mask;
         let elem = |x: f64| <<S<B> as SimdReal>::Element as Real>::lit(x);
         let half = S::<B>::simd_lit(0.5);
-        let tol = S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Float>::epsilon() * elem(8.0));
+        let tol = S::<B>::simd_splat(<<S<B> as SimdReal>::Element as Real>::epsilon() * elem(8.0));
         let mut failed: Mask<B> = !ops::finite_mat::<B>(m);
         let mut done = Mask::<B>::splat(false);
         let mut x = m;

@@ -8,7 +8,7 @@
 
 mod common;
 use common::*;
-use lie::num_traits::FloatConst;
+
 use lie::{Backend, Real, Rotation, V3};
 
 const PI: f64 = std::f64::consts::PI;
@@ -143,7 +143,7 @@ pub fn log_at_exactly_pi<B: Backend, R: Rotation<B>>() {
     axes_.extend((0..50).map(|_| rng.unit()));
     for axis in axes_ {
         for th in [PI - 1e-9, PI] {
-            let pi_b = lie::S::<B>::PI().to_f64_lossless();
+            let pi_b = <lie::S<B> as lie::Real>::pi().to_f64_lossless();
             let th_b = if th == PI { pi_b } else { th };
             let phi = vb::<B>(scale(axis, th_b));
             let r = R::exp(phi);

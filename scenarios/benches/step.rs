@@ -161,7 +161,6 @@ mod direct {
     };
     use dynamics::{Hexarotor, Quadrotor, RigidBodyState, Vehicle, Wrench, paper};
     use integrators::{Integrator, Load, Rk4, State, System};
-    use lie::num_traits::Float;
     use lie::{Backend, M3, Real, S};
 
     pub struct Loop<B: Backend> {

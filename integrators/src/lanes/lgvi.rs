@@ -3,7 +3,8 @@
 //! stopping test and then keeping its value while the other lanes go on,
 //! so each lane is the scalar step to the bit.
 
-use lie::num_traits::{Float, One};
+use lie::Real;
+use lie::num_traits::One;
 use lie::{M3, S, SimdBackend, SimdMask, SimdReal, V3, hat, ops};
 
 use super::{LaneMask, LaneSystem, body, select_state};

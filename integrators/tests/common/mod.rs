@@ -58,7 +58,7 @@ pub fn run_free<B: Backend, I: Integrator<B, 0>>(
     t_end: f64,
     n: usize,
 ) -> State<B, 0> {
-    let mut sys = integrators::problems::TorqueFree::<B>::diag123();
+    let mut sys = integrators::problems::Top::<B>::free_diag123();
     let mut y = free_start::<B>();
     let h = S::<B>::lit(t_end / n as f64);
     integrate_fixed(integ, &mut sys, S::<B>::lit(0.0), h, n, &mut y).expect("step");

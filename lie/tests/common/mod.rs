@@ -3,7 +3,6 @@
 //! that shares no code with the crate under test.
 #![allow(dead_code)]
 
-use lie::num_traits::Float;
 use lie::{Backend, M3, Real, S, V3};
 
 pub type A3 = [f64; 3];

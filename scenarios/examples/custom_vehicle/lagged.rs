@@ -9,7 +9,6 @@
 //! and the tests that check it against the built-in quadrotor.
 
 use dynamics::{Disturbance, DynamicsError, Quadrotor, RigidBodyState, Vehicle, Wrench};
-use lie::num_traits::Float;
 use lie::{Backend, M3, Real, S};
 
 /// The paper's airframe with rotor lag `tau` (s; 0 = rotors follow the

@@ -5,7 +5,6 @@ use super::*;
 use controllers::Mode;
 use dynamics::{RigidBodyState, Vehicle, Wind};
 use integrators::{Integrator, State, Stepper};
-use lie::num_traits::Float;
 use lie::{Backend, Real, S};
 
 /// Builds a [`Simulation`]; every setting is checked in

@@ -5,7 +5,6 @@
 use controllers::{ControlError, ModeOutput};
 use dynamics::{RotorSpeedInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
-use lie::num_traits::Float;
 use lie::{Backend, Real, S, V3};
 
 use super::{Segment, SwitchRecord, Until};

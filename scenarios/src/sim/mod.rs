@@ -92,39 +92,18 @@ impl Default for RunOptions<'_> {
 /// command at that state) ↦ leave now?`.
 pub type Condition<'a, B> = Box<dyn FnMut(f64, &RigidBodyState<B>, &ModeOutput<B>) -> bool + 'a>;
 
-/// When a segment ends.
-pub enum Until<'a, B: Backend> {
-    /// Never (the last segment).
-    Never,
-    /// At this time, s; the simulation lands a step on it.
-    Time(f64),
-    /// When `Ψ` against the mode's desired attitude drops below this. The
-    /// crossing is located by bisection on redone steps.
-    PsiBelow(f64),
-    /// When the user's predicate first holds, checked after every step and
-    /// located by bisection like `PsiBelow` (so it should switch from false
-    /// to true once within a step).
-    Condition(Condition<'a, B>),
-}
+/// When a segment ends: `controllers::Until` with times in `f64` seconds
+/// and a boxed [`Condition`]. The simulation lands a step on
+/// `Until::Time(t)`, locates `Until::PsiBelow(ψ)` (`Ψ` against the mode's
+/// desired attitude) by bisection on redone steps, and checks
+/// `Until::Condition(f)` after every step, located by bisection like
+/// `PsiBelow` (so it should switch from false to true once within a step).
+pub type Until<'a, B> = controllers::Until<f64, Condition<'a, B>>;
 
-impl<B: Backend> std::fmt::Debug for Until<'_, B> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Until::Never => write!(f, "Never"),
-            Until::Time(t) => write!(f, "Time({t})"),
-            Until::PsiBelow(p) => write!(f, "PsiBelow({p})"),
-            Until::Condition(_) => write!(f, "Condition(..)"),
-        }
-    }
-}
-
-/// One segment of a plan: a flight mode and when it ends.
-pub struct Segment<'a, B: Backend> {
-    /// The law.
-    pub mode: Box<dyn Mode<B> + 'a>,
-    /// When it ends.
-    pub until: Until<'a, B>,
-}
+/// One segment of a plan: a boxed flight mode and when it ends
+/// (`controllers::Segment`, the same type a flight computer's scheduler
+/// steps through).
+pub type Segment<'a, B> = controllers::Segment<Box<dyn Mode<B> + 'a>, Until<'a, B>>;
 
 /// When the controller runs.
 #[derive(Copy, Clone, Debug, PartialEq)]

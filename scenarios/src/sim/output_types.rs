@@ -45,16 +45,8 @@ pub struct Sample {
     pub wind: [f64; 3],
 }
 
-/// A mode switch.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct SwitchRecord {
-    /// Time, s.
-    pub t: f64,
-    /// Segment left.
-    pub from: usize,
-    /// Segment entered.
-    pub to: usize,
-}
+/// A mode switch: its time, s, and the segments left and entered.
+pub type SwitchRecord = controllers::Switch<f64>;
 
 /// What a run produced.
 #[derive(Clone, Debug)]

@@ -100,7 +100,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
         ..ClosedLoop::new(vehicle, wind, plan, s.m, s.nv)?
     };
     let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
-    out.epsilon = <S<B> as lie::num_traits::Float>::epsilon().to_f64_lossless();
+    out.epsilon = <S<B> as lie::Real>::epsilon().to_f64_lossless();
     out.warnings = plan_warnings(sys.plan, ctrl, s.dt, s.t_end);
     let jumps = sys
         .wind
