@@ -13,7 +13,8 @@ edges (a parent declares its children; `super::` items are the parent's),
 and test code (`#[cfg(test)]` items, `tests.rs`, `tests/`) is left out.
 
 Prints every circle (strongly connected component of two or more
-siblings) with one edge that closes it, and exits 1 if there is any;
+siblings) with one edge that closes it, and every import from a declared
+layer to one above it (LAYERS), and exits 1 if there is any;
 `--graph` also prints every edge, `--dot FILE` writes the graph for
 Graphviz (the crates and their normal dependencies, then each crate's
 modules), and `--check-dot FILE` fails when FILE is not what `--dot` would
@@ -29,6 +30,35 @@ from collections import defaultdict
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "xtask", "python", "testkit", "capi"]
+# Layers of a crate's top-level modules, bottom first: a module may name
+# modules of its own layer or below, never above. Every top-level module
+# of such a crate must be placed (a new one fails until it is).
+LAYERS = {
+    "scenarios": [
+        ("engine", ["sim", "lanes"]),
+        ("outputs", ["output"]),
+        ("scenes", ["scene", "builtin", "overrides", "reference", "from_scene", "dynamic", "report"]),
+        ("studies", ["metrics", "gains", "montecarlo", "regress", "stress"]),
+        ("figures", ["figures"]),
+    ],
+}
+
+
+def layer_violations(crate, edges):
+    """Imports from a layer to one above it, and top-level modules in no
+    layer; empty when the crate has no layers declared."""
+    if crate not in LAYERS:
+        return []
+    rank = {m: i for i, (_, mods) in enumerate(LAYERS[crate]) for m in mods}
+    names = [name for name, _ in LAYERS[crate]]
+    found = []
+    top = edges.get((), set())
+    for m in sorted({x for pair in top for x in pair} - set(rank)):
+        found.append(f"{crate}::{m} is in no layer (scripts/modgraph.py LAYERS)")
+    for a, b in sorted(top):
+        if a in rank and b in rank and rank[a] < rank[b]:
+            found.append(f"{crate}: {a} ({names[rank[a]]}) imports {b} ({names[rank[b]]}), a layer above it")
+    return found
 
 
 def module_of(src, path):
@@ -237,6 +267,11 @@ def main(argv):
                 print(f"circle in {where}: {' , '.join(comp)} (edges: "
                       + ", ".join(f"{a} -> {b}" for a, b in inner) + ")")
         lines.append("  }")
+        for v in layer_violations(crate, edges):
+            found += 1
+            print(v)
+        if crate in LAYERS and not layer_violations(crate, edges):
+            print(f"{crate}: layers {' < '.join(n for n, _ in LAYERS[crate])}, every import goes down or sideways")
     lines.append("}")
     text = "\n".join(lines) + "\n"
     if dot:
@@ -250,7 +285,7 @@ def main(argv):
                 return 1
         print(f"{check} is the current module graph")
     if found:
-        print(f"{found} import circle(s)")
+        print(f"{found} import circle(s) or layer violation(s)")
         return 1
     print(f"no import circles among the modules of {', '.join(crates)}")
     return 0

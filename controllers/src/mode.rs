@@ -250,9 +250,10 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// whose [`Mode::commands_rotor_speeds`] is `true`: for a law
     /// of another family that outputs rotor speeds (RotorPy's
     /// `SE3Control`), or a recorded sequence replayed open loop. Called
-    /// after `command` at the same `(t, state)`; returns whether it wrote
-    /// them. The default, `false`, commands the wrench. The vehicle must
-    /// take rotor-speed commands, else the run stops with
+    /// after `command` at the same `(t, state)` by the default
+    /// [`Mode::command_with_speeds`]; returns whether it wrote them. The
+    /// default, `false`, commands the wrench. The vehicle must take
+    /// rotor-speed commands, else the run stops with
     /// [`ControlError::RotorSpeedsUnsupported`]; `command`'s output is
     /// still what the logs show as the desired attitude and `Ψ`.
     fn rotor_speeds(
@@ -262,6 +263,27 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
         _speeds: &mut [S<B>],
     ) -> bool {
         false
+    }
+    /// The command and the rotor speeds of a mode whose
+    /// [`Mode::commands_rotor_speeds`] is `true`, in one call: what a
+    /// simulation calls once per control instant (or per load evaluation
+    /// in continuous control) for such a mode. Returns the command (the
+    /// logged wrench, desired attitude and `Ψ`) and whether `speeds` was
+    /// written. The default calls [`Mode::command`] then
+    /// [`Mode::rotor_speeds`]; a law that computes both at once (the
+    /// wrench on the way to the speeds) overrides this one instead, so it
+    /// neither computes twice nor caches between the two calls, and its
+    /// `command` may call this with a scratch buffer.
+    fn command_with_speeds(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, R>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+        speeds: &mut [S<B>],
+    ) -> Result<(ModeOutput<B, R>, bool), ControlError> {
+        let out = self.command(t, state, integrals, rates)?;
+        Ok((out, self.rotor_speeds(t, state, speeds)))
     }
 }
 
@@ -298,6 +320,16 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     }
     fn rotor_speeds(&mut self, t: S<B>, state: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
         (**self).rotor_speeds(t, state, speeds)
+    }
+    fn command_with_speeds(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, R>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+        speeds: &mut [S<B>],
+    ) -> Result<(ModeOutput<B, R>, bool), ControlError> {
+        (**self).command_with_speeds(t, state, integrals, rates, speeds)
     }
 }
 

@@ -46,6 +46,16 @@
 //!
 //! [`output`] writes the CSV and the MCAP log; [`metrics`] holds what the
 //! regression suite checks.
+//!
+//! # Layers
+//! The modules import only downward or sideways (CI checks it):
+//! the engine ([`Simulation`] and everything it needs, the
+//! [`output::Sink`] trait it writes into, and `lanes` with feature `simd`),
+//! which knows nothing of scene files or studies; the [`output`] sinks
+//! (CSV, MCAP); the scenes ([`scene`], [`builtin`], [`reference`](mod@reference), building
+//! a `Simulation` from a [`Scene`], [`RunReport`]); the studies
+//! ([`metrics`], [`gains`], [`montecarlo`], [`regress`], [`stress`]); and
+//! `figures` (feature `plot`) on top.
 
 #![deny(missing_docs)]
 
@@ -63,6 +73,7 @@ pub mod output;
 mod overrides;
 pub mod reference;
 pub mod regress;
+mod report;
 pub mod scene;
 mod sim;
 pub mod stress;
@@ -72,11 +83,12 @@ pub use from_scene::{
     PositionFn, Registry, SceneAttitude, ScenePosition, VehicleFactory, build_vehicle, plan,
 };
 pub use overrides::Overrides;
+pub use report::RunReport;
 pub use scene::{Scene, SceneError};
 pub use sim::{
     Condition, Control, Divergence, DivergenceGuard, Health, OpenLoop, RunOptions, RunOutput,
-    RunReport, Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder,
-    SwitchRecord, Termination, Until,
+    Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
+    Termination, Until,
 };
 
 use lie::Backend;

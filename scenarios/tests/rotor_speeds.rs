@@ -1,10 +1,13 @@
 //! Modes that command rotor speeds instead of a wrench
-//! (`Mode::rotor_speeds`): the same command through either path flies the
-//! same trajectory bit for bit, a recorded speed sequence replayed open
-//! loop reproduces the run it came from bit for bit, and a vehicle
-//! without rotor speeds refuses them with a typed error.
+//! (`Mode::rotor_speeds`, `Mode::command_with_speeds`): the same command
+//! through either path flies the same trajectory bit for bit, a mode that
+//! answers both in one call is asked once per control instant, a recorded
+//! speed sequence replayed open loop reproduces the run it came from bit
+//! for bit, and a vehicle without rotor speeds refuses them with a typed
+//! error.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use controllers::{ControlError, Mode, ModeOutput, VehicleState};
@@ -69,6 +72,73 @@ impl Mode<B> for Speeds {
             log.insert(t.to_bits(), speeds.to_vec());
         }
         true
+    }
+}
+
+/// The same law answering once: `command_with_speeds` computes the wrench
+/// and mixes it in one call, with nothing kept between calls. Counts how
+/// often each entry point is called.
+struct SpeedsOnce {
+    inner: Box<dyn Mode<B>>,
+    mixer: Multirotor<B>,
+    log: Log,
+    /// Calls of `command_with_speeds`, then of `command`.
+    calls: Arc<[AtomicUsize; 2]>,
+}
+
+impl SpeedsOnce {
+    fn answer(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+        speeds: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        let out = self.inner.command(t, state, integrals, rates)?;
+        let wrench = Wrench {
+            thrust: out.thrust,
+            moment: out.moment,
+        };
+        self.mixer.speed_commands(&wrench, speeds);
+        if let Ok(mut log) = self.log.lock() {
+            log.insert(t.to_bits(), speeds.to_vec());
+        }
+        Ok(out)
+    }
+}
+
+impl Mode<B> for SpeedsOnce {
+    fn name(&self) -> &'static str {
+        "speeds"
+    }
+    fn integral_count(&self) -> usize {
+        self.inner.integral_count()
+    }
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        self.calls[1].fetch_add(1, Ordering::Relaxed);
+        self.answer(t, state, integrals, rates, &mut [0.0; 4])
+    }
+    fn commands_rotor_speeds(&self) -> bool {
+        true
+    }
+    fn command_with_speeds(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+        rates: &mut [S<B>],
+        speeds: &mut [S<B>],
+    ) -> Result<(ModeOutput<B>, bool), ControlError> {
+        self.calls[0].fetch_add(1, Ordering::Relaxed);
+        let out = self.answer(t, state, integrals, rates, speeds)?;
+        Ok((out, true))
     }
 }
 
@@ -152,6 +222,35 @@ fn rotor_speed_commands_fly_like_the_wrench_they_mix() {
     let spread =
         w.iter().cloned().fold(f64::MIN, f64::max) - w.iter().cloned().fold(f64::MAX, f64::min);
     assert!(spread > 1.0, "rotor 1 speed varied by {spread} rad/s");
+}
+
+#[test]
+fn a_mode_answering_once_is_asked_once_per_control_instant() {
+    let (log, once_log): (Log, Log) = (Arc::default(), Arc::default());
+    let calls: Arc<[AtomicUsize; 2]> = Arc::default();
+    let (l, c) = (once_log.clone(), calls.clone());
+    let once: Wrap = Box::new(move |inner| {
+        Box::new(SpeedsOnce {
+            inner,
+            mixer: crazyflie(),
+            log: l.clone(),
+            calls: c.clone(),
+        })
+    });
+    let two_calls = fly(Box::new(crazyflie()), &speeds_of(&log), true).expect("run");
+    let one_call = fly(Box::new(crazyflie()), &once, true).expect("run");
+    assert_same_flight(&two_calls, &one_call);
+    let instants = once_log.lock().expect("log").len();
+    assert!(instants >= 300, "{instants} control instants");
+    // Sampled at 100 Hz: one answer per control instant (the one at t = 0
+    // serves the held command and the rotors' initial speeds alike), and
+    // `command` alone is never asked.
+    assert_eq!(calls[0].load(Ordering::Relaxed), instants);
+    assert_eq!(calls[1].load(Ordering::Relaxed), 0);
+    // Continuous control flies like the wrench too.
+    let wrench = fly(Box::new(crazyflie()), &|m| m, false).expect("run");
+    let continuous = fly(Box::new(crazyflie()), &once, false).expect("run");
+    assert_same_flight(&wrench, &continuous);
 }
 
 #[test]

@@ -87,7 +87,6 @@ struct Se3Control {
     mixer: Multirotor<B>,
     k_eta: f64,
     traj: Traj,
-    speeds: [f64; 4],
 }
 
 impl Se3Control {
@@ -99,22 +98,19 @@ impl Se3Control {
             k_eta: mixer.params().k_eta,
             mixer,
             traj,
-            speeds: [0.0; 4],
         }
     }
 }
 
-impl Mode<B> for Se3Control {
-    fn name(&self) -> &'static str {
-        "se3control"
-    }
-    fn command(
+impl Se3Control {
+    /// One evaluation of the law: the wrench (returned, for the logs) and
+    /// the rotor speeds it mixes to (written into `speeds`).
+    fn answer(
         &mut self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
-        _integrals: &[S<B>],
-        _rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
+        speeds: &mut [S<B>],
+    ) -> ModeOutput<B> {
         let x = p(B::vec3_to_array(state.x));
         let v = p(B::vec3_to_array(state.v));
         let w = p(B::vec3_to_array(state.omega));
@@ -152,30 +148,49 @@ impl Mode<B> for Se3Control {
         self.mixer
             .actuators_from_wrench(&wrench, &mut f)
             .expect("four rotors");
-        for (sp, f) in self.speeds.iter_mut().zip(f) {
+        for (sp, f) in speeds.iter_mut().zip(f) {
             let x = f / self.k_eta;
             *sp = x.signum() * x.abs().sqrt();
         }
         let desired = So3Mat::<B>::from_matrix_unchecked(ops::from_elems::<B>(pm(r_des)));
-        Ok(ModeOutput {
+        ModeOutput {
             thrust: u1,
             moment: B::vec3(m[0], m[1], m[2]),
             desired,
             desired_omega: B::vec3(0.0, 0.0, 0.0),
             psi: state.r.psi(desired),
-        })
+        }
+    }
+}
+
+/// A rotor-speed law answers both in one call (`command_with_speeds`);
+/// `command` alone (never asked by the simulation here) evaluates it with a
+/// scratch buffer.
+impl Mode<B> for Se3Control {
+    fn name(&self) -> &'static str {
+        "se3control"
+    }
+    fn command(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        _integrals: &[S<B>],
+        _rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        Ok(self.answer(t, state, &mut [0.0; 4]))
     }
     fn commands_rotor_speeds(&self) -> bool {
         true
     }
-    fn rotor_speeds(
+    fn command_with_speeds(
         &mut self,
-        _t: S<B>,
-        _state: &VehicleState<B, So3Mat<B>>,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        _integrals: &[S<B>],
+        _rates: &mut [S<B>],
         speeds: &mut [S<B>],
-    ) -> bool {
-        speeds.copy_from_slice(&self.speeds);
-        true
+    ) -> Result<(ModeOutput<B>, bool), ControlError> {
+        Ok((self.answer(t, state, speeds), true))
     }
 }
 

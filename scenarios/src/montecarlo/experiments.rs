@@ -88,7 +88,7 @@ pub struct Setup {
     /// 0.006 s (99th percentile). The lane path runs with it off.
     #[serde(default = "locate_by_default")]
     pub locate_events: bool,
-    /// On the lane path ([`Setup::run_lanes`]), one dopri step size shared
+    /// On the lane path (`Setup::run_lanes`, feature `simd`), one dopri step size shared
     /// by the four lanes of an instruction stream (the worst lane's error
     /// decides), instead of a step size per lane. Off by default: measured
     /// on the 10 000 samples of seed 1, the shared step is slower and its

@@ -11,6 +11,9 @@ mod locate;
 mod validate;
 mod wind;
 
+/// Defined beside [`SimError`](crate::SimError), whose `Scene` variant
+/// carries it, so that the engine needs nothing from this module.
+pub use crate::sim::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
 use locate::{line_col, locate_error};
 pub use wind::WindSpec;
@@ -605,42 +608,6 @@ pub struct RecordSpec {
 impl Default for RecordSpec {
     fn default() -> Self {
         Self { sample: 0.01 }
-    }
-}
-
-/// A scene that failed to load or validate.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneError {
-    /// What is wrong, naming the key and the value.
-    pub message: String,
-    /// `file:line:column` when known.
-    pub location: Option<String>,
-    /// The key a validation error is about, dotted by table
-    /// (`integrator.kind`; in a segment, the key inside `[[plan]]`);
-    /// `None` for a TOML syntax or type error, which the location alone
-    /// places.
-    pub key: Option<String>,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.location {
-            Some(l) => write!(f, "{l}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl SceneError {
-    /// A validation error about `key`, without a place in a file.
-    pub fn at_key(key: &str, message: String) -> Self {
-        Self {
-            message,
-            location: None,
-            key: Some(key.to_string()),
-        }
     }
 }
 

@@ -204,18 +204,34 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         let seg = self.plan.get_mut(self.active)?;
         let st = y.body.group();
         let m = self.m;
-        match seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m]) {
+        // A rotor-speed mode answers once with both (its law may compute
+        // the wrench on the way to the speeds); a wrench mode is asked for
+        // the command alone.
+        let answer = if self.speeds_mode {
+            let n = self.vehicle.actuator_count().min(MAX_ROTORS);
+            seg.mode
+                .command_with_speeds(
+                    t,
+                    &st,
+                    &y.extra[..m],
+                    &mut rates[..m],
+                    &mut self.speed_buf[..n],
+                )
+                .map(|(out, wrote)| {
+                    if wrote {
+                        *speeds = Some((self.speed_buf, n));
+                    }
+                    out
+                })
+        } else {
+            seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m])
+        };
+        match answer {
             Ok(mut out) => {
                 if self.compensate
                     && let Some(mo) = self.vehicle.configuration_moment(&y.body)
                 {
                     out.moment = out.moment - mo;
-                }
-                if self.speeds_mode {
-                    let n = self.vehicle.actuator_count().min(MAX_ROTORS);
-                    if seg.mode.rotor_speeds(t, &st, &mut self.speed_buf[..n]) {
-                        *speeds = Some((self.speed_buf, n));
-                    }
                 }
                 Some(out)
             }

@@ -4,10 +4,10 @@
 use integrators::{Integrator, State, System, dense};
 use lie::{Backend, Real, S};
 
+use super::Sink;
 use super::closed_loop::ClosedLoop;
 use super::record::sample;
 use super::{RunOutput, Sample, SimError, SwitchRecord};
-use crate::output::Sink;
 
 /// Where samples go: kept in the output, handed to the sink, or both; and
 /// when: every `rec` seconds, taken from the steps' continuous extension

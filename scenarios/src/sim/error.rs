@@ -1,7 +1,6 @@
 //! Why a run could not be built or could not go on.
 
-use crate::output::OutputError;
-use crate::scene::SceneError;
+use super::OutputError;
 
 /// Why a run could not be built or could not go on. Each variant keeps its
 /// typed cause ([`std::error::Error::source`]); the messages name the time
@@ -194,5 +193,41 @@ impl From<integrators::UnknownIntegrator> for SimError {
 impl From<OutputError> for SimError {
     fn from(e: OutputError) -> Self {
         SimError::Output(e)
+    }
+}
+
+/// A scene that failed to load or validate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// What is wrong, naming the key and the value.
+    pub message: String,
+    /// `file:line:column` when known.
+    pub location: Option<String>,
+    /// The key a validation error is about, dotted by table
+    /// (`integrator.kind`; in a segment, the key inside `[[plan]]`);
+    /// `None` for a TOML syntax or type error, which the location alone
+    /// places.
+    pub key: Option<String>,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.location {
+            Some(l) => write!(f, "{l}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl SceneError {
+    /// A validation error about `key`, without a place in a file.
+    pub fn at_key(key: &str, message: String) -> Self {
+        Self {
+            message,
+            location: None,
+            key: Some(key.to_string()),
+        }
     }
 }

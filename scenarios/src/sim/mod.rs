@@ -1,13 +1,15 @@
-//! The simulation: any vehicle, any flight modes, any integrator, through
-//! one loop with exact landing on checkpoints, located events and
-//! recording.
+//! The simulation engine: any vehicle, any flight modes, any integrator,
+//! through one loop with exact landing on checkpoints, located events and
+//! recording. The bottom layer of the crate: it imports nothing from the
+//! scenes, outputs, studies or figures above it.
 //!
 //! | file | what it holds |
 //! |---|---|
 //! | `mod.rs` | [`Simulation`], [`Segment`], [`Until`], [`Control`], [`RunOptions`] |
 //! | `builder.rs` | [`SimulationBuilder`]: every setting checked, naming the field and the value |
 //! | `output_types.rs` | what a run returns: [`Sample`], [`SwitchRecord`], [`RunOutput`], [`Termination`], [`Health`], and the [`DivergenceGuard`] |
-//! | `error.rs` | [`SimError`] |
+//! | `error.rs` | [`SimError`], and the [`SceneError`] its `Scene` variant carries (defined here so that the engine needs nothing from the scene layer above) |
+//! | `sink.rs` | [`Sink`], where samples and switches go as they are produced, and its [`OutputError`]; the CSV and MCAP writers above implement it |
 //! | `closed_loop.rs` | the vehicle, the plan and the held command as one [`integrators::System`]; the extra-state layout; switching |
 //! | `stepping.rs` | the stepping loop: checkpoints (control instants, switch times, end), steps landing on them, samples from the continuous extension, extrema over every step, progress |
 //! | `events.rs` | event location: breakpoint crossings (the paper's sat′) and condition switches (`Ψ` below a threshold, a user predicate) |
@@ -22,25 +24,25 @@
 //! stay zero. A plan and vehicle that need more than `N` are a
 //! [`SimError::Layout`] naming both counts.
 
-pub(crate) mod closed_loop;
-mod events;
-mod report;
-pub use report::RunReport;
 mod builder;
+pub(crate) mod closed_loop;
 mod emit;
 mod error;
+mod events;
 mod grid;
 mod open_loop;
 mod output_types;
 pub use open_loop::OpenLoop;
 pub(crate) mod record;
+mod sink;
 mod stepping;
 pub use builder::SimulationBuilder;
-pub use error::SimError;
 use error::bad;
+pub use error::{SceneError, SimError};
 pub use output_types::{
     Divergence, DivergenceGuard, Health, RunOutput, Sample, SwitchRecord, Termination,
 };
+pub use sink::{OutputError, Sink, Tee};
 
 use std::sync::atomic::AtomicBool;
 
@@ -48,8 +50,6 @@ use controllers::{Mode, ModeOutput};
 use dynamics::{RigidBodyState, Vehicle, Wind};
 use integrators::{Integrator, IntegratorKind, State, Stepper, StepperConfig};
 use lie::{Backend, S};
-
-use crate::output::Sink;
 
 /// Options of one run.
 pub struct RunOptions<'a> {

@@ -549,7 +549,13 @@ fn begin<B: Backend, const N: usize>(
     }
     if sys.nv > 0 && !vehicle_states_given {
         let (m, nv) = (sys.m, sys.nv);
-        let first = sys.command(l(0.0), y);
+        // Sampled: the command held from t = 0 is the first one (a mode is
+        // asked once per control instant); continuous: ask for it.
+        let first = if sys.sampled {
+            sys.held
+        } else {
+            sys.command(l(0.0), y)
+        };
         let states = &mut y.extra[m..m + nv];
         match first {
             Some(super::closed_loop::Command {

@@ -3,9 +3,8 @@
 
 use std::fmt;
 
-use super::RunOutput;
-use crate::Scene;
 use crate::scene::Timing;
+use crate::{RunOutput, Scene};
 
 /// [`RunOutput::report`]: the summary `cargo xtask run` prints, for any
 /// front end that wants the same lines.
