@@ -12,7 +12,7 @@
 # PATH; only the image's build sees Debian's.
 #
 # Usage: scripts/flight.sh [--no-compare]. The bit-for-bit comparison with
-# the host is the test `cargo test -p capi --test firmware`, which reads
+# the host is the test `cargo test -p geopid-control --test firmware`, which reads
 # target/firmware/qemu.txt; without --no-compare this script runs it last
 # (CI runs the script first and the test inside `cargo test --workspace`).
 set -euo pipefail
@@ -87,10 +87,10 @@ echo "what the image printed about its costs (SysTick; the exact counts follow):
 grep -E '^(C|S) ' "$out"
 
 if [ "$compare" = 1 ]; then
-    stage "compare with the host (cargo test -p capi --test firmware)"
-    cargo test -q -p capi --test firmware -- --nocapture
+    stage "compare with the host (cargo test -p geopid-control --test firmware)"
+    cargo test -q -p geopid-control --test firmware -- --nocapture
 else
-    echo "(--no-compare: the comparison with the host is left to cargo test -p capi --test firmware)"
+    echo "(--no-compare: the comparison with the host is left to cargo test -p geopid-control --test firmware)"
 fi
 
 stage "exact instruction counts: the run again, single-stepped, every executed instruction traced"

@@ -3,7 +3,7 @@
 //! handler that parks the core (the laws have no panic that an input can
 //! reach: bad inputs are status codes).
 //!
-//! Host: `cargo build -p capi --release --example geopid_control` →
+//! Host: `cargo build -p geopid-control --release --example geopid_control` →
 //! `target/release/examples/libgeopid_control.a`. A Cortex-M4F firmware:
 //! the same with `--target thumbv7em-none-eabihf --no-default-features
 //! --features libm`.

@@ -24,7 +24,7 @@ fn committed_header_matches_the_sources() {
     assert!(
         committed == generated,
         "{} differs from what cbindgen generates from the sources; \
-         regenerate it with GPC_BLESS=1 cargo test -p capi --test header",
+         regenerate it with GPC_BLESS=1 cargo test -p geopid-control --test header",
         path.display()
     );
 }

@@ -1,10 +1,10 @@
-//! `cargo bench -p controllers --features simd --bench lanes`: the attitude
+//! `cargo bench -p geopid-controllers --features simd --bench lanes`: the attitude
 //! law (`attitude_law`, the unchecked law both flight modes share) and the
 //! position law (`position_law`) for a batch of [`BATCH`] vehicles, one
 //! vehicle per call on the scalar backends and four or eight per call on
 //! the lane backends. Criterion's throughput is the batch, so its time per
 //! element is per vehicle. The checked laws (`attitude_control`,
-//! `position_control`) are the scalar rows of `cargo bench -p controllers`.
+//! `position_control`) are the scalar rows of `cargo bench -p geopid-controllers`.
 
 use controllers::{
     AccelerationModel, AttitudeGains, AttitudeReference, PositionGains, PositionInput,

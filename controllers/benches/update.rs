@@ -1,4 +1,4 @@
-//! `cargo bench -p controllers`: one attitude-mode and one position-mode
+//! `cargo bench -p geopid-controllers`: one attitude-mode and one position-mode
 //! update through the generic code on the four (backend, scalar) pairs,
 //! beside the same maths written by hand on glam's own types (f32 and
 //! f64), so the abstraction's cost is a ratio measured in one run.

@@ -9,7 +9,7 @@
 //! the LGVI; the stand's `Vehicle::translates()` is false, so x and v are
 //! never touched.
 //!
-//! Run: `cargo run -p dynamics --example attitude_stand`
+//! Run: `cargo run -p geopid-dynamics --example attitude_stand`
 
 use controllers::{AttitudeGains, AttitudeReference, RigidBodyParams, attitude_control};
 use dynamics::{AttitudeStand, Quadrotor, RigidBodyState, Vehicle, Wrench, loads};

@@ -1,4 +1,4 @@
-//! `cargo bench -p lie --features simd --bench lanes`: the same generic
+//! `cargo bench -p geopid-lie --features simd --bench lanes`: the same generic
 //! formulas on one scalar per call (`NalgebraF64`, `NalgebraF32`) and on
 //! lanes (`NalgebraF64x4`, `NalgebraF32x8`), over one batch of
 //! [`BATCH`] rotation vectors; criterion's throughput is the batch size, so

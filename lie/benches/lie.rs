@@ -1,4 +1,4 @@
-//! `cargo bench -p lie`: each operation through the generic `lie` code
+//! `cargo bench -p geopid-lie`: each operation through the generic `lie` code
 //! beside the same formula written by hand on the library's own types, for
 //! the four (backend, scalar) pairs (ids `<op>/<pair>/<generic|hand>`),
 //! and beside the backend's own types for rotations and rigid motions

@@ -1,6 +1,6 @@
 //! A tour of `lie`: the paper's flip attitude command evaluated in all four
 //! (backend, scalar) pairs through one generic function, and the log at
-//! angle π. Run with `cargo run -p lie --example tour`.
+//! angle π. Run with `cargo run -p geopid-lie --example tour`.
 
 use lie::{Backend, Real, Rotation, So3Mat, So3Quat, V3};
 

@@ -46,7 +46,7 @@
 //!
 //! # What it costs
 //!
-//! * **Run time:** nothing measurable. `cargo bench -p lie` runs every
+//! * **Run time:** nothing measurable. `cargo bench -p geopid-lie` runs every
 //!   operation beside the same formula written by hand on glam or nalgebra
 //!   types; the generic/hand-written ratios are reported in the
 //!   repository's notes. Where the generic formula reads elements through
@@ -68,7 +68,7 @@
 //! # Features
 //!
 //! `std` (default), `libm` (for `no_std`), `nalgebra` (default), `glam`
-//! (default). `cargo build -p lie --no-default-features --features glam,libm`
+//! (default). `cargo build -p geopid-lie --no-default-features --features glam,libm`
 //! builds the crate as `no_std`.
 //!
 //! `simd` adds two lane backends, `NalgebraF64x4` and `NalgebraF32x8`

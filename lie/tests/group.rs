@@ -4,7 +4,7 @@
 //! at the hard cases, the group identities, and f32 against f64.
 //!
 //! A test without the libtest harness (`harness = false`), so that
-//! `cargo test -p lie` shows its table: the worst finite-difference error
+//! `cargo test -p geopid-lie` shows its table: the worst finite-difference error
 //! per operation and pair, the identities' residuals, f32 against f64. A
 //! failed check panics, which fails the test.
 

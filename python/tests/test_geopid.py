@@ -13,6 +13,9 @@ import geopid
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FLIP_TOML = os.path.join(ROOT, "scenarios", "scenes", "paper-flip.toml")
+# The command line to compare with: an xtask binary already built (CI's,
+# given in XTASK) or `cargo xtask` from the checkout.
+XTASK = [os.environ["XTASK"]] if os.environ.get("XTASK") else ["cargo", "xtask"]
 
 
 # --- scenes -----------------------------------------------------------------
@@ -105,11 +108,35 @@ def test_run_matches_the_command_line_csv(tmp_path):
     geopid.run("paper-flip", duration=1.0, csv=ours, mcap=tmp_path / "py.mcap")
     assert (tmp_path / "py.mcap").stat().st_size > 1000
     cli = tmp_path / "cli.csv"
-    cmd = ["cargo", "xtask", "run", "paper-flip", "--duration", "1", "--csv", str(cli)]
+    cmd = XTASK + ["run", "paper-flip", "--duration", "1", "--csv", str(cli)]
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if done.returncode != 0:
         pytest.skip(f"cargo xtask unavailable here: {done.stderr[-300:]}")
     assert ours.read_bytes() == cli.read_bytes()
+
+
+def test_the_module_command_line_writes_what_run_writes(tmp_path):
+    """`python -m geopid run` is `geopid.run` with the command line's
+    options: the same CSV bytes, a summary line, typed exit statuses."""
+    ours = tmp_path / "py.csv"
+    geopid.run("paper-flip", duration=0.5, integrator="lgvi", csv=ours)
+    cli = tmp_path / "cli.csv"
+    done = subprocess.run(
+        [sys.executable, "-m", "geopid", "run", "paper-flip", "--duration", "0.5",
+         "--integrator", "lgvi", "--csv", str(cli)],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("completed at t = 0.5 s: Ψ = "), done.stdout
+    assert ours.read_bytes() == cli.read_bytes()
+    bad = subprocess.run(
+        [sys.executable, "-m", "geopid", "run", "paper-flip", "--integrator", "leapfrog"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert bad.returncode == 2 and "leapfrog" in bad.stderr, bad.stderr
+    listed = subprocess.run([sys.executable, "-m", "geopid", "scenes"],
+                            capture_output=True, text=True, timeout=300)
+    assert "paper-flip" in listed.stdout.split()
 
 
 def test_output_paths_fail_before_the_run(tmp_path):
@@ -412,7 +439,7 @@ def test_montecarlo_rows_match_the_command_line(tmp_path):
     part = geopid.montecarlo("attitude", seed=1, indices=[3, 9])
     assert np.array_equal(part["angle"], rows["angle"][[3, 9]])
     out = tmp_path / "cli"
-    cmd = ["cargo", "xtask", "montecarlo", "--experiment", "attitude", "--samples", "12",
+    cmd = XTASK + ["montecarlo", "--experiment", "attitude", "--samples", "12",
            "--seed", "1", "--out", str(out)]
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if done.returncode != 0:

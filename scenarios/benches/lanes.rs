@@ -1,4 +1,4 @@
-//! `cargo bench -p scenarios --features simd --bench lanes`: one RK4 step
+//! `cargo bench -p geopid-scenarios --features simd --bench lanes`: one RK4 step
 //! of the closed loop (`scenarios::lanes::PositionLoop`: the position law,
 //! the quadrotor's loads with Δ_x and Δ_R, six integral states) for a
 //! batch of [`BATCH`] scenes, one scene per call on the scalar backends

@@ -19,7 +19,7 @@
 //!   `controllers/benches/common/hand.rs`, the dynamics and the RK4
 //!   combination inline): the baseline of the abstraction's cost.
 //!
-//! `cargo bench -p scenarios --bench step`; `cargo xtask bench` runs it and
+//! `cargo bench -p geopid-scenarios --bench step`; `cargo xtask bench` runs it and
 //! tabulates the ratios.
 
 use criterion::{Criterion, criterion_group, criterion_main};

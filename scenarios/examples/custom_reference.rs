@@ -3,7 +3,7 @@
 //! turning along the path), under the paper's disturbances. No scene
 //! format involved; the closure is the reference.
 //!
-//! Run: `cargo run -p scenarios --example custom_reference`
+//! Run: `cargo run -p geopid-scenarios --example custom_reference`
 
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionMode, PositionReference,

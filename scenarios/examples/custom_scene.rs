@@ -3,7 +3,7 @@
 //! 250 Hz (zero-order hold) as on a flight computer, in f32 on glam,
 //! integrated by RKMK4. Prints the run summary and writes a CSV.
 //!
-//! Run: `cargo run -p scenarios --example custom_scene`
+//! Run: `cargo run -p geopid-scenarios --example custom_scene`
 
 use scenarios::output::write_csv;
 use scenarios::scene::{

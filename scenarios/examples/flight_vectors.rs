@@ -6,7 +6,7 @@
 //! attitude law sees the flip's large errors and the position law the
 //! recovery's.
 //!
-//! Run: `cargo run -p scenarios --example flight_vectors -- firmware/vectors/paper-flip-f32.bin`
+//! Run: `cargo run -p geopid-scenarios --example flight_vectors -- firmware/vectors/paper-flip-f32.bin`
 
 use geopid_control::vectors::Record;
 use geopid_control::{GpcAttitudeReference, GpcIntegrals, GpcPositionReference, GpcState};

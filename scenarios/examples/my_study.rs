@@ -3,7 +3,7 @@
 //! spinning at up to 3 rad/s, with its own settle criterion (hover within
 //! 5 cm, level within Ψ < 10⁻³ and spinning below 0.05 rad/s, for 1 s).
 //!
-//! Run it with `cargo run --release -p scenarios --example my_study`.
+//! Run it with `cargo run --release -p geopid-scenarios --example my_study`.
 
 use controllers::{
     AccelerationModel, AttitudeGains, HoldPosition, PositionGains, PositionMode, PositionReference,

@@ -4,7 +4,7 @@
 //! its own per sample, settled when it holds within 10 cm and Ψ < 10⁻²
 //! for 2 s. Run with and without the integral terms on the same draws.
 //!
-//! `cargo run --release -p scenarios --example wind_study [samples]`
+//! `cargo run --release -p geopid-scenarios --example wind_study [samples]`
 
 use dynamics::{DrydenSpec, DrydenWind, RigidBodyState};
 use lie::{NalgebraF64, Real};

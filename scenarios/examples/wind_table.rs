@@ -6,7 +6,7 @@
 //! and max ‖e_x‖ and Ψ over the run after the first 2 s (the start-up
 //! transient), and the peak rotor speed.
 //!
-//! `cargo run --release -p scenarios --example wind_table`
+//! `cargo run --release -p geopid-scenarios --example wind_table`
 
 use scenarios::scene::VehicleKind;
 use scenarios::{Overrides, RunOptions, Scene};

@@ -3,14 +3,14 @@
 //! `file:line:col` location, and every accepted scene runs a few steps
 //! without panicking (an error is fine; a panic or a hang is not).
 //!
-//! `cargo test -p scenarios --test fuzz_scene` runs a short pass (the
+//! `cargo test -p geopid-scenarios --test fuzz_scene` runs a short pass (the
 //! proptest default of 256 cases per property, or `PROPTEST_CASES`) from
 //! a fixed seed (`PROPTEST_RNG_SEED` picks another); a failure prints the
 //! seed that reproduces it and is kept in `fuzz_scene.proptest-regressions`.
 //! The long campaign is an ignored test bounded by wall time:
 //!
 //! ```text
-//! SCENE_FUZZ_SECS=600 cargo test --release -p scenarios --test fuzz_scene \
+//! SCENE_FUZZ_SECS=600 cargo test --release -p geopid-scenarios --test fuzz_scene \
 //!     -- --ignored --nocapture fuzz_for_a_while
 //! ```
 //!

@@ -95,10 +95,10 @@ fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
 /// that one `cargo bench --no-run` compiles each library once. (Most of
 /// the build is the bench binaries themselves, each instantiating every
 /// pair and stepper: one build instead of four saved little of it.)
-const BENCH_PACKAGES: [&str; 3] = ["lie", "controllers", "scenarios"];
-const BENCH_FEATURES: &str = "lie/simd,controllers/simd,scenarios/simd";
+const BENCH_PACKAGES: [&str; 3] = ["geopid-lie", "geopid-controllers", "geopid-scenarios"];
+const BENCH_FEATURES: &str = "geopid-lie/simd,geopid-controllers/simd,geopid-scenarios/simd";
 
-/// The criterion passes: `(package, bench target, filter)`. `lie`'s own
+/// The criterion passes: `(package folder, bench target, filter)`. `lie`'s own
 /// `lanes` bench (per-rotation lane timings) is not one of them.
 const PASSES: [(&str, &str, &str); 5] = [
     ("controllers", "update", ""),

@@ -5,7 +5,7 @@
 //!   SVG and MCAP under `target/bench/`.
 //! * `bench-table` — reads criterion's results under `target/criterion` and
 //!   prints the median of every `<op>/<pair>/generic` benchmark beside its
-//!   `<op>/<pair>/hand` twin with the ratio (run `cargo bench -p lie` first).
+//!   `<op>/<pair>/hand` twin with the ratio (run `cargo bench -p geopid-lie` first).
 //! * `features` — checks that `lie` builds in every feature combination the
 //!   README promises: each backend alone, both, and `no_std` with `libm`.
 //!
@@ -73,7 +73,7 @@ enum Cmd {
     /// target/bench/{summary.csv, work_precision.csv, work_precision.svg,
     /// bench.mcap}.
     Bench(bench::BenchArgs),
-    /// Table of the last `cargo bench -p lie` run: generic vs hand-written.
+    /// Table of the last `cargo bench -p geopid-lie` run: generic vs hand-written.
     BenchTable,
     /// Build `lie` in every feature combination.
     Features,
@@ -163,7 +163,7 @@ fn bench_table() -> Result<(), String> {
         .unwrap_or_else(|| workspace_root().join("target").join("criterion"));
     if !root.exists() {
         return Err(format!(
-            "{} does not exist: run `cargo bench -p lie` first",
+            "{} does not exist: run `cargo bench -p geopid-lie` first",
             root.display()
         ));
     }
@@ -183,15 +183,18 @@ fn features() -> Result<(), String> {
         &["--no-default-features", "--features", "glam,nalgebra,libm"],
     ];
     for combo in combos {
-        println!("cargo build -p lie {}", combo.join(" "));
+        println!("cargo build -p geopid-lie {}", combo.join(" "));
         let status = Command::new(env!("CARGO"))
-            .args(["build", "-p", "lie"])
+            .args(["build", "-p", "geopid-lie"])
             .args(combo)
             .current_dir(workspace_root())
             .status()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
         if !status.success() {
-            return Err(format!("`cargo build -p lie {}` failed", combo.join(" ")));
+            return Err(format!(
+                "`cargo build -p geopid-lie {}` failed",
+                combo.join(" ")
+            ));
         }
     }
     println!("all {} feature combinations build", combos.len());

@@ -7,7 +7,7 @@
  * firmware version you build with.
  *
  * Build: link target/thumbv7em-none-eabihf/release/examples/libgeopid_control.a
- * (cargo build -p capi --release --example geopid_control
+ * (cargo build -p geopid-control --release --example geopid_control
  *  --target thumbv7em-none-eabihf --no-default-features --features libm)
  * into the app, with CONFIG_CONTROLLER_OOT=y.
  *

@@ -4,7 +4,7 @@
 //! to the instant it first holds), then `landing.rs` takes it down at
 //! 0.5 m/s and cuts the thrust 10 cm above the ground.
 //!
-//! Run: `cargo run -p scenarios --example custom_mode`
+//! Run: `cargo run -p geopid-scenarios --example custom_mode`
 
 mod landing;
 

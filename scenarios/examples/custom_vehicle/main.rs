@@ -4,7 +4,7 @@
 //! and MCAP log as the built-in vehicles, once through the `Simulation`
 //! builder and once from a scene file that names it (`Registry`).
 //!
-//! Run: `cargo run -p scenarios --example custom_vehicle`
+//! Run: `cargo run -p geopid-scenarios --example custom_vehicle`
 
 mod lagged;
 
