@@ -91,6 +91,8 @@ compile_error!("lie needs either the `std` or the `libm` feature for its maths f
 mod backend;
 mod bundle;
 mod convert;
+#[cfg(feature = "dual")]
+mod dual;
 mod group;
 pub mod lanes;
 mod simd;
@@ -112,12 +114,16 @@ pub mod so3;
 pub use backend::{Backend, M3, S, SimdBackend, V3, ops};
 #[cfg(feature = "glam")]
 pub use backends::glam::{GlamF32, GlamF32A, GlamF64};
+#[cfg(feature = "dual")]
+pub use backends::nalgebra::NalgebraDual;
 #[cfg(feature = "nalgebra")]
 pub use backends::nalgebra::{NalgebraF32, NalgebraF64};
 #[cfg(feature = "simd")]
 pub use backends::nalgebra::{NalgebraF32x8, NalgebraF64x4};
 pub use bundle::{ActBlocks, BlockDiag4, RigidState, RigidTangent};
 pub use convert::{log_matrix, log_wxyz, shepperd};
+#[cfg(feature = "dual")]
+pub use dual::Dual;
 pub use group::{LieGroup, Matrix3x6, mul6};
 pub use num_traits;
 pub use quat::So3Quat;
