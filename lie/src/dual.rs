@@ -1,54 +1,4 @@
-//! Forward-mode dual numbers as the scalar (feature `dual`): derivatives of
-//! any formula of the workspace, computed by the same code that computes its
-//! value.
-//!
-//! A [`Dual<N>`] is a real part and `N` directional derivatives,
-//! `x + Σ εᵢ ẋᵢ` with `εᵢ εⱼ = 0`. Every operation applies the chain rule to
-//! the derivatives and computes the real part with **exactly the `f64`
-//! operation** the plain run performs (`a / b` is a division, not `a · b⁻¹`;
-//! `powi` and `hypot` are the library's own), so the real part of a dual run
-//! is the `f64` run bit for bit. That is why this type is written here
-//! rather than taken from `num-dual`: that crate computes the real part of a
-//! quotient as `a · (1/b)` and of `powi` as `x^(n−3)·x·x·x`, which differ
-//! from the `f64` results in the last bit, and the derivative of a closed
-//! loop is only the derivative *of the flight that was flown* when the
-//! primal run is that flight.
-//!
-//! Comparisons (`==`, `<`, and [`SimdReal::simd_lt`]) read the real part
-//! only, so every branch, step-size decision and event takes the path the
-//! `f64` run takes. [`SimdReal::simd_eq`] compares the derivatives too: it
-//! guards exactness shortcuts (a diagonal matrix's product skipping its zero
-//! off-diagonal terms), and a zero whose derivative is not zero must not be
-//! skipped.
-//!
-//! Where a function is not differentiable at a point the primal run can
-//! reach — `√x` and `hypot` at 0, `atan2(0, 0)` — a zero derivative stays
-//! exactly zero (the norm of a vector that is zero with all its derivatives,
-//! e.g. the rotation vector of `exp(0 ⊕ δ)` when `δ` is not seeded), and a
-//! nonzero one becomes infinite, so that a check of finiteness stops the run
-//! instead of a NaN spreading. The formulas of this crate never take a square
-//! root at zero with a live derivative: their small-angle branches are
-//! polynomials in `θ²`.
-//!
-//! ```
-//! use lie::{Dual, NalgebraDual, NalgebraF64, So3Mat, so3};
-//! use nalgebra::Vector3;
-//!
-//! // ∂ exp(φ)/∂φₖ at φ = (0.3, −0.2, 0.1), the three components seeded.
-//! let phi = [0.3, -0.2, 0.1];
-//! let seeded = Vector3::from_fn(|k, _| Dual::<3>::variable(phi[k], k));
-//! let r = So3Mat::<NalgebraDual<3>>::exp(seeded).as_matrix();
-//! let value = r.map(|x| x.re);
-//! // The real part is the f64 computation, bit for bit.
-//! assert_eq!(value, So3Mat::<NalgebraF64>::exp(Vector3::from(phi)).as_matrix());
-//! // Rᵀ ∂R/∂φₖ is the k-th column of the right Jacobian J_r(φ), hatted.
-//! let jr = so3::right_jacobian::<NalgebraF64>(Vector3::from(phi));
-//! for k in 0..3 {
-//!     let w = value.transpose() * r.map(|x| x.eps[k]);
-//!     let col = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
-//!     assert!((col - jr.column(k)).norm() < 1e-15);
-//! }
-//! ```
+//! The forward-mode dual scalar (feature `dual`): see [`Dual`].
 
 use crate::{Real, SimdReal};
 use core::cmp::Ordering;
@@ -56,8 +6,57 @@ use core::fmt;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 use num_traits::{One, Zero};
 
-/// A real number with `N` directional derivatives carried along: see the
-/// [module docs](self).
+/// Forward-mode dual numbers as the scalar (feature `dual`): derivatives of
+/// any formula of the workspace, computed by the same code that computes its
+/// value.
+///
+/// A [`Dual<N>`] is a real part and `N` directional derivatives,
+/// `x + Σ εᵢ ẋᵢ` with `εᵢ εⱼ = 0`. Every operation applies the chain rule to
+/// the derivatives and computes the real part with **exactly the `f64`
+/// operation** the plain run performs (`a / b` is a division, not `a · b⁻¹`;
+/// `powi` and `hypot` are the library's own), so the real part of a dual run
+/// is the `f64` run bit for bit. That is why this type is written here
+/// rather than taken from `num-dual`: that crate computes the real part of a
+/// quotient as `a · (1/b)` and of `powi` as `x^(n−3)·x·x·x`, which differ
+/// from the `f64` results in the last bit, and the derivative of a closed
+/// loop is only the derivative *of the flight that was flown* when the
+/// primal run is that flight.
+///
+/// Comparisons (`==`, `<`, and [`SimdReal::simd_lt`]) read the real part
+/// only, so every branch, step-size decision and event takes the path the
+/// `f64` run takes. [`SimdReal::simd_eq`] compares the derivatives too: it
+/// guards exactness shortcuts (a diagonal matrix's product skipping its zero
+/// off-diagonal terms), and a zero whose derivative is not zero must not be
+/// skipped.
+///
+/// Where a function is not differentiable at a point the primal run can
+/// reach — `√x` and `hypot` at 0, `atan2(0, 0)` — a zero derivative stays
+/// exactly zero (the norm of a vector that is zero with all its derivatives,
+/// e.g. the rotation vector of `exp(0 ⊕ δ)` when `δ` is not seeded), and a
+/// nonzero one becomes infinite, so that a check of finiteness stops the run
+/// instead of a NaN spreading. The formulas of this crate never take a square
+/// root at zero with a live derivative: their small-angle branches are
+/// polynomials in `θ²`.
+///
+/// ```
+/// use lie::{Dual, NalgebraDual, NalgebraF64, So3Mat, so3};
+/// use nalgebra::Vector3;
+///
+/// // ∂ exp(φ)/∂φₖ at φ = (0.3, −0.2, 0.1), the three components seeded.
+/// let phi = [0.3, -0.2, 0.1];
+/// let seeded = Vector3::from_fn(|k, _| Dual::<3>::variable(phi[k], k));
+/// let r = So3Mat::<NalgebraDual<3>>::exp(seeded).as_matrix();
+/// let value = r.map(|x| x.re);
+/// // The real part is the f64 computation, bit for bit.
+/// assert_eq!(value, So3Mat::<NalgebraF64>::exp(Vector3::from(phi)).as_matrix());
+/// // Rᵀ ∂R/∂φₖ is the k-th column of the right Jacobian J_r(φ), hatted.
+/// let jr = so3::right_jacobian::<NalgebraF64>(Vector3::from(phi));
+/// for k in 0..3 {
+///     let w = value.transpose() * r.map(|x| x.eps[k]);
+///     let col = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+///     assert!((col - jr.column(k)).norm() < 1e-15);
+/// }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Dual<const N: usize> {
     /// The value: bit for bit what the `f64` computation gives.
@@ -93,7 +92,7 @@ impl<const N: usize> Dual<N> {
     }
 
     /// The chain rule where `f'(x)` is infinite: zero derivatives stay
-    /// zero, the others become ±∞ (see the module docs).
+    /// zero, the others become ±∞ (see the type's docs).
     #[inline]
     fn chain_singular(self, f0: f64) -> Self {
         Self {
@@ -270,7 +269,7 @@ impl<const N: usize> SimdReal for Dual<N> {
     fn simd_from_fn(mut f: impl FnMut(usize) -> Self) -> Self {
         f(0)
     }
-    /// Value *and* derivatives equal (see the module docs).
+    /// Value *and* derivatives equal (see the type's docs).
     #[inline(always)]
     fn simd_eq(self, other: Self) -> bool {
         self.re == other.re && self.eps == other.eps
