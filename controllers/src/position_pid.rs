@@ -202,7 +202,23 @@ fn sat_and_slope<B: lie::SimdBackend>(
     let (one, zero_) = (S::<B>::simd_lit(1.0), S::<B>::simd_lit(0.0));
     // Component by component rather than `[_; 3]::map`: the array map was
     // left out of line in release builds (~60 instructions per update).
-    let s = |i: usize| a[i].simd_max(-sigma).simd_min(sigma);
+    let s = |i: usize| {
+        let v = a[i].simd_max(-sigma).simd_min(sigma);
+        if !S::<B>::CARRIES_DERIVATIVES {
+            return v;
+        }
+        // A located crossing lands e_i on ±σ, where the clamp's tie hands
+        // over either operand's derivatives: a forced branch decides (the
+        // value is the clamp's either way).
+        match branch[i] {
+            SatBranch::Auto => v,
+            SatBranch::Inside => v.with_derivatives_of(a[i]),
+            SatBranch::Outside => {
+                let outer = S::<B>::simd_select(a[i].simd_lt(zero_), -sigma, sigma);
+                v.with_derivatives_of(outer)
+            }
+        }
+    };
     // sat′ is 1 inside [−σ, σ] (the closed interval: the paper's cases) and
     // 0 outside, unless a branch is forced.
     let d = |i: usize| match branch[i] {

@@ -160,12 +160,14 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
     let mut converged = false;
     let mut iterations = 0;
     let mut prev_step = S::<B>::infinity();
-    for it in 1..=max_iter {
-        iterations = it;
+    let jacobian = |f: V3<B>| {
         let [a0, a1, a2] = B::vec3_to_array(a);
         let outer = B::mat3_from_cols(f * a0, f * a1, f * a2);
-        let jac = a_hat + id * B::dot(a, f) + outer - j * two;
-        let Some(jinv) = ops::inverse::<B>(jac) else {
+        a_hat + id * B::dot(a, f) + outer - j * two
+    };
+    for it in 1..=max_iter {
+        iterations = it;
+        let Some(jinv) = ops::inverse::<B>(jacobian(f)) else {
             break;
         };
         let df = jinv * g(f);
@@ -185,6 +187,15 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
             break;
         }
         prev_step = step;
+    }
+    // Newton stops on the value. One more step from the root, applied to
+    // the derivatives alone, gives them exactly (the implicit function
+    // theorem: f′ = −g_f⁻¹ g_a a′ at g = 0) whatever the iterations left.
+    if <S<B> as lie::SimdReal>::CARRIES_DERIVATIVES
+        && converged
+        && let Some(jinv) = ops::inverse::<B>(jacobian(f))
+    {
+        f = ops::with_derivatives_of::<B>(f, f - jinv * g(f));
     }
     let an = ops::norm::<B>(a);
     let residual = ops::norm::<B>(g(f)) / (an + S::<B>::min_positive_value());

@@ -314,6 +314,15 @@ pub mod ops {
         let s = |k: usize| select_vec::<B>(mask, a[k], b[k]);
         B::mat3_from_cols(s(0), s(1), s(2))
     }
+    /// `v`'s values with `w`'s derivatives
+    /// ([`SimdReal::with_derivatives_of`] per component; `v` itself unless
+    /// the scalar carries derivatives).
+    #[inline(always)]
+    pub fn with_derivatives_of<B: SimdBackend>(v: V3<B>, w: V3<B>) -> V3<B> {
+        let (a, b) = (B::vec3_to_array(v), B::vec3_to_array(w));
+        let d = |k: usize| a[k].with_derivatives_of(b[k]);
+        B::vec3(d(0), d(1), d(2))
+    }
     /// Lane-wise: every component of `v` finite.
     #[inline(always)]
     pub fn finite_vec<B: SimdBackend>(v: V3<B>) -> <S<B> as SimdReal>::Mask {

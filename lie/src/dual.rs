@@ -255,6 +255,15 @@ impl<const N: usize> SimdReal for Dual<N> {
     type Element = Self;
     type Mask = bool;
     const LANES: usize = 1;
+    const CARRIES_DERIVATIVES: bool = true;
+
+    #[inline(always)]
+    fn with_derivatives_of(self, other: Self) -> Self {
+        Self {
+            re: self.re,
+            eps: other.eps,
+        }
+    }
 
     #[inline(always)]
     fn simd_splat(x: Self) -> Self {
@@ -350,6 +359,11 @@ impl<const N: usize> Real for Dual<N> {
     #[inline(always)]
     fn lit(x: f64) -> Self {
         Self::constant(x)
+    }
+    /// [`Dual::variable`].
+    #[inline]
+    fn seeded(x: f64, i: usize) -> Self {
+        Self::variable(x, i)
     }
     /// The real part (the derivatives are dropped).
     #[inline(always)]

@@ -147,6 +147,15 @@ pub trait Real:
     fn min_positive_value() -> Self;
     /// π.
     fn pi() -> Self;
+
+    /// `x` as an input the derivatives are taken with respect to: direction
+    /// `i` of a scalar that carries derivatives (`Dual`, feature `dual`),
+    /// `lit(x)` for `f32`/`f64`.
+    #[inline(always)]
+    fn seeded(x: f64, i: usize) -> Self {
+        let _ = i;
+        Self::lit(x)
+    }
 }
 
 /// `f32`'s and `f64`'s elementary functions: `num_traits::Float`'s, which

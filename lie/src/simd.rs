@@ -181,6 +181,19 @@ pub trait SimdReal:
     }
     /// Lanes that are neither NaN nor ±∞.
     fn simd_is_finite(self) -> Self::Mask;
+
+    /// Whether the scalar carries derivatives along (a dual number): code
+    /// that only moves derivatives (the correction a located event makes
+    /// to a forward-mode run) is compiled out for `f32`/`f64` and their lanes.
+    const CARRIES_DERIVATIVES: bool = false;
+    /// `self`'s value with `other`'s derivatives. A located event moves the
+    /// derivatives of a state but not its value, which must stay the plain
+    /// run's bit for bit. For `f32`/`f64` and lanes of them: `self`.
+    #[inline(always)]
+    fn with_derivatives_of(self, other: Self) -> Self {
+        let _ = other;
+        self
+    }
 }
 
 /// `√x` for one `f32`. On an Arm core with a floating-point unit built

@@ -10,19 +10,21 @@
 
 use controllers::{Breakpoint, SatBranch};
 use integrators::{Integrator, Load, State};
-use lie::{Backend, Real, S};
+use lie::{Backend, Real, S, SimdReal};
 
 use super::SimError;
 use super::closed_loop::ClosedLoop;
 
 /// A located breakpoint crossing: time, breakpoint index, slot, the value
-/// the slot lands on (±level).
-pub(crate) struct Crossing {
+/// the slot lands on (±level), and that value as the law's scalar (it
+/// carries the level's derivatives in a dual run).
+pub(crate) struct Crossing<B: Backend> {
     pub t: f64,
     pub index: usize,
     pub slot: usize,
     pub level: f64,
     pub target: f64,
+    pub target_s: S<B>,
 }
 
 /// The earliest breakpoint whose slot crossed its level inside the step,
@@ -35,8 +37,8 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
     h: f64,
     before: &State<B, N>,
     after: &State<B, N>,
-) -> Option<Crossing> {
-    let mut found: Option<Crossing> = None;
+) -> Option<Crossing<B>> {
+    let mut found: Option<Crossing<B>> = None;
     let mut rates: Option<(Load<B, N>, Load<B, N>)> = None;
     for (k, bp) in bps.iter().enumerate() {
         let level = bp.level.to_f64_lossless();
@@ -96,10 +98,22 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
                 slot: bp.slot,
                 level,
                 target,
+                target_s: if target < 0.0 { -bp.level } else { bp.level },
             });
         }
     }
     found
+}
+
+/// Where a step was split at a crossing: the located time, the steps
+/// taken, the branches before and after, and the grid phase from there
+/// (see [`crossing_derivatives`]).
+pub(crate) struct Split<B: Backend> {
+    pub t: f64,
+    pub steps: u64,
+    pub pre: SatBranch,
+    pub post: SatBranch,
+    pub phase: S<B>,
 }
 
 /// Redoes the step from `(t, before)` to the crossing `c`, refining its
@@ -107,17 +121,15 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
 /// O(h⁴) accurate; for Dormand–Prince's long calls that error, times the
 /// rate, was 1e-7 in the state), and lands the slot on ±level. The active
 /// mode integrates up to the crossing on the branch it was on and is left
-/// forced onto the far branch. Returns the located time, the steps taken,
-/// and the branches before and after the crossing.
+/// forced onto the far branch. `phase` carries the derivatives of the
+/// step's start time (a dual run; see [`crossing_derivatives`]).
 pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
-    c: &Crossing,
-    t: f64,
-    h: f64,
-    before: &State<B, N>,
+    c: &Crossing<B>,
+    (t, h, before, phase): (f64, f64, &State<B, N>, S<B>),
     y: &mut State<B, N>,
-) -> Result<(f64, u64, SatBranch, SatBranch), SimError> {
+) -> Result<Split<B>, SimError> {
     use integrators::System;
     let l = S::<B>::lit;
     let mut steps = 0u64;
@@ -151,13 +163,93 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
         }
         tc = (tc - newton).clamp(t, t + h);
     }
+    let mut next_phase = l(0.0);
+    if S::<B>::CARRIES_DERIVATIVES {
+        next_phase = crossing_derivatives(sys, stepper, c, (t, tc, h, before, phase), y)?;
+        steps += 4;
+    }
     // Land the slot on ±level exactly and integrate the next step on the
     // far side's branch (stages a rounding error from the boundary would
     // otherwise pick either side).
-    y.extra[c.slot] = l(c.target);
+    y.extra[c.slot] = c.target_s.with_derivatives_of(y.extra[c.slot]);
     sys.plan[sys.active].mode.force_branch(c.index, post);
     stepper.reset();
-    Ok((tc, steps, pre, post))
+    Ok(Split {
+        t: tc,
+        steps,
+        pre,
+        post,
+        phase: next_phase,
+    })
+}
+
+/// A dual run's derivatives at a crossing located at `tc` inside the step
+/// `(t, h)` from `before` (`phase`: the derivatives of `t`); `y` holds the
+/// values there and gets the derivatives, and the crossing time's
+/// derivatives are returned as a zero carrying them. The values are left
+/// alone: the real part stays the plain run's.
+///
+/// The crossing time moves with the seeded inputs. The located time solves
+/// `g = s(t_c) − target = 0` for the slot `s` of the sub-step `t → t_c`,
+/// so by the implicit function theorem `t_c′ = (target′ − s′)/(∂s/∂t_c)`,
+/// with `s′` from the sub-step redone with its end held fixed and
+/// `∂s/∂t_c` from the same discrete sub-step (a central difference of its
+/// values, δ = 1e-4 h: truncation δ²s‴ and rounding ε s/δ are both below
+/// 1e-9 of the rate). The sub-step is then redone with its length moving
+/// by `t_c′ − t′`, and the grid runs on from `t_c` carrying `t_c′`, so the
+/// derivative is that of the flight the plain run computes, step lengths
+/// and all (the jump of the vector field across the crossing, `(f⁻ − f⁺)
+/// t_c′`, comes out of the two sub-steps' lengths; without it a gradient
+/// through a saturation crossing is wrong at first order).
+fn crossing_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    stepper: &mut I,
+    c: &Crossing<B>,
+    (t, tc, h, before, phase): (f64, f64, f64, &State<B, N>, S<B>),
+    y: &mut State<B, N>,
+) -> Result<S<B>, SimError> {
+    let l = S::<B>::lit;
+    let t_s = l(t).with_derivatives_of(phase);
+    let mut redo = |sys: &mut ClosedLoop<'_, '_, B, N>, hc: S<B>| {
+        let mut yy = *before;
+        stepper.reset();
+        stepper
+            .step(sys, t_s, hc, &mut yy)
+            .map_err(|e| SimError::step(t, hc.to_f64_lossless(), e, sys.error.take()))?;
+        Ok::<_, SimError>(yy)
+    };
+    let hc = tc - t;
+    let held = redo(sys, l(hc).with_derivatives_of(-phase))?;
+    let delta = 1e-4 * h;
+    let (lo, hi) = if hc > delta {
+        (hc - delta, hc + delta)
+    } else {
+        (hc, hc + delta)
+    };
+    let slot = |yy: State<B, N>| yy.extra[c.slot].to_f64_lossless();
+    let rate = (slot(redo(sys, l(hi))?) - slot(redo(sys, l(lo))?)) / (hi - lo);
+    let shift = l(0.0).with_derivatives_of((c.target_s - held.extra[c.slot]) / l(rate));
+    let moved = redo(sys, l(hc).with_derivatives_of(shift - phase))?;
+    with_derivatives_of_state::<B, N>(y, &moved);
+    Ok(shift)
+}
+
+/// `y`'s values with `d`'s derivatives, component by component.
+fn with_derivatives_of_state<B: Backend, const N: usize>(y: &mut State<B, N>, d: &State<B, N>) {
+    use lie::ops::with_derivatives_of as vec;
+    let (b, e) = (&mut y.body, &d.body);
+    let (rc, ec) = (B::mat3_cols(b.r), B::mat3_cols(e.r));
+    b.r = B::mat3_from_cols(
+        vec::<B>(rc[0], ec[0]),
+        vec::<B>(rc[1], ec[1]),
+        vec::<B>(rc[2], ec[2]),
+    );
+    b.x = vec::<B>(b.x, e.x);
+    b.v = vec::<B>(b.v, e.v);
+    b.omega = vec::<B>(b.omega, e.omega);
+    for (a, b) in y.extra.iter_mut().zip(&d.extra) {
+        *a = a.with_derivatives_of(*b);
+    }
 }
 
 /// The first time in `(t, ts]` at which a condition (the active

@@ -13,7 +13,7 @@ use std::time::Instant;
 use controllers::{Breakpoint, SatBranch};
 use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State};
-use lie::{Backend, Real, S};
+use lie::{Backend, Real, S, SimdReal};
 
 use super::closed_loop::{ClosedLoop, Parked};
 use super::emit::{Emit, Record};
@@ -60,6 +60,12 @@ pub(crate) struct Running<B: Backend, const N: usize> {
     /// The steps run `seg_start + k·dt` from the last checkpoint.
     seg_start: f64,
     j: u64,
+    /// In a run on a scalar with derivatives: a zero carrying the
+    /// derivatives of `seg_start` (zero after a fixed-time checkpoint, the
+    /// crossing time's after a located crossing), so that every time and
+    /// step length handed to the stepper moves with the seeded inputs as
+    /// the plain run's would. Nothing for `f32`/`f64`.
+    phase: S<B>,
     grid: Grid,
     bps: Vec<Breakpoint<B>>,
     /// The active law is held on a breakpoint branch for the next step.
@@ -118,6 +124,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
         t_next: grid.next(s.t_end),
         seg_start: 0.0,
         j: 0,
+        phase: S::<B>::lit(0.0),
         grid,
         bps: breakpoints(&sys, s.locate_events),
         forced: false,
@@ -279,15 +286,24 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             while self.r.t < self.r.t_next {
                 let r = &mut *self.r;
                 let mut ts = r.seg_start + (r.j + 1) as f64 * dt;
-                if ts > r.t_next - 1e-12 * dt.max(r.t_next) {
+                let landing = ts > r.t_next - 1e-12 * dt.max(r.t_next);
+                if landing {
                     ts = r.t_next;
                 }
                 if ts > until + 1e-9 * dt {
                     return Ok(());
                 }
                 let (t, h) = (r.t, ts - r.t);
+                // On the grid both ends move with `phase`; a landing step
+                // ends on a fixed time and its length takes the difference.
+                let t_s = l(t).with_derivatives_of(r.phase);
+                let h_s = if landing {
+                    l(h).with_derivatives_of(-r.phase)
+                } else {
+                    l(h)
+                };
                 let before = *self.y;
-                let stats = match self.stepper.step(self.sys, l(t), l(h), self.y) {
+                let stats = match self.stepper.step(self.sys, t_s, h_s, self.y) {
                     Ok(s) => s,
                     Err(e) => return self.failed_step(e, t, h),
                 };
@@ -334,7 +350,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             // Split the step at the crossing: redo [t, tc], restart the dt
             // grid from tc.
             let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
-            r.t = cx.at_crossing(*stepper, &c, (t, h, before), y)?;
+            (r.t, r.phase) = cx.at_crossing(*stepper, &c, (t, h, before), r.phase, y)?;
             r.forced = true;
             (r.seg_start, r.j) = (r.t, 0);
             return Ok(false);
@@ -346,7 +362,9 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
             let step = (t, ts, h, before);
             r.t = cx.at_condition(*stepper, step, y, &mut r.bps, &mut r.forced)?;
-            (r.seg_start, r.j) = (r.t, 0);
+            // The switch time's own derivatives are not carried (yet): the
+            // grid restarts from it as from a fixed time.
+            (r.seg_start, r.j, r.phase) = (r.t, 0, S::<B>::lit(0.0));
             return Ok(false);
         }
         // The run's stop condition and the guard: located like a switch,
@@ -409,7 +427,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         self.emit
             .at_checkpoint(&mut r.out, self.sys, t, self.y, t >= r.t_end)?;
         r.t_next = r.grid.next(r.t_end);
-        (r.seg_start, r.j) = (t, 0);
+        (r.seg_start, r.j, r.phase) = (t, 0, S::<B>::lit(0.0));
         Ok(())
     }
 
@@ -639,17 +657,21 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
     /// step redone up to it (`y` becomes the state there), the samples inside
     /// taken on the branch that part was integrated on (sat′ changes Ω̇
     /// through the integral term's rate), the crossing counted, tracked and
-    /// sampled; the law is left forced onto the far branch. Returns its time.
+    /// sampled; the law is left forced onto the far branch. Returns its time
+    /// and the grid phase from there (see `Running::phase`; `phase` is the
+    /// step's).
     fn at_crossing<I: Integrator<B, N>>(
         &mut self,
         stepper: &mut I,
-        c: &Crossing,
+        c: &Crossing<B>,
         (t, h, before): (f64, f64, &State<B, N>),
+        phase: S<B>,
         y: &mut State<B, N>,
-    ) -> Result<f64, SimError> {
+    ) -> Result<(f64, S<B>), SimError> {
         let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
-        let (tc, steps, pre, post) = split_at_crossing(sys, stepper, c, t, h, before, y)?;
-        out.steps += steps;
+        let split = split_at_crossing(sys, stepper, c, (t, h, before, phase), y)?;
+        let (tc, pre, post) = (split.t, split.pre, split.post);
+        out.steps += split.steps;
         sys.plan[sys.active].mode.force_branch(c.index, pre);
         emit.inside(out, sys, stepper, (t, before), (tc, y))?;
         sys.plan[sys.active].mode.force_branch(c.index, post);
@@ -657,7 +679,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         emit.exact(out, sys, tc, y)?;
         out.events += 1;
         out.event_times.push((tc, c.index));
-        Ok(tc)
+        Ok((tc, split.phase))
     }
 
     /// The active segment's condition holds at the end of the step
