@@ -38,7 +38,7 @@ LAYERS = {
         ("engine", ["sim", "lanes"]),
         ("outputs", ["output"]),
         ("scenes", ["scene", "builtin", "overrides", "reference", "from_scene", "dynamic", "report"]),
-        ("studies", ["metrics", "gains", "montecarlo", "regress", "stress"]),
+        ("studies", ["metrics", "gains", "montecarlo", "regress", "stress", "sensitivity"]),
         ("figures", ["figures"]),
     ],
 }

@@ -132,7 +132,11 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
         let mut stats = StepStats::default();
         let mut cur = *y;
         let mut tc = t;
-        let mut hs = self.h_next.unwrap_or(h).min(h);
+        // Step-size control reads values only (`with_derivatives_of(0)`
+        // drops derivatives, and is nothing for f32/f64): a run on a scalar
+        // with derivatives takes the plain run's substeps, as constants.
+        let value = |x: S<B>| lie::SimdReal::with_derivatives_of(x, S::<B>::zero());
+        let mut hs = value(self.h_next.unwrap_or(h).min(h));
         let mut k1 = body.deriv(&cur, &eval(sys, tc, &cur)?);
         stats.evaluations += 1;
         let zero_state = {
@@ -151,7 +155,7 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
                 hs = remaining;
             }
             let (next, k7, err) = trial(sys, &body, &cur, &k1, &zero_state, (tc, hs), &mut stats)?;
-            let en = error_norm(self.atol, self.rtol, &body, (&cur, &next, &err));
+            let en = value(error_norm(self.atol, self.rtol, &body, (&cur, &next, &err)));
             if !Real::is_finite(en) {
                 return Err(StepError::NonFinite {
                     field: "dopri error estimate",

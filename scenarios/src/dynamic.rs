@@ -5,7 +5,7 @@
 use dynamics::RigidBodyState;
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation};
 
-use crate::from_scene::{PositionFn, builder_from};
+use crate::from_scene::{PositionFn, Seeds, builder_from};
 use crate::reference::{m, v};
 use crate::scene::{BackendKind, Scalar, Scene};
 use crate::sim::closed_loop::{f3, fm};
@@ -274,15 +274,15 @@ impl Registry {
             position: Option<&PositionFn>,
         ) -> Result<Box<dyn Stepping>, SimError> {
             r.check(scene)?;
-            let (vehicle, plan, capacity) = r.parts::<B>(scene, position)?;
+            let (vehicle, plan, capacity) = r.parts::<B>(scene, position, Seeds::NONE)?;
             Ok(match capacity {
                 6 => Box::new(
-                    builder_from::<B, 6>(scene, vehicle, plan)?
+                    builder_from::<B, 6>(scene, vehicle, plan, Seeds::NONE)?
                         .guard(guard)
                         .build()?,
                 ),
                 _ => Box::new(
-                    builder_from::<B, 16>(scene, vehicle, plan)?
+                    builder_from::<B, 16>(scene, vehicle, plan, Seeds::NONE)?
                         .guard(guard)
                         .build()?,
                 ),

@@ -252,6 +252,16 @@ impl Registry {
         &self,
         scene: &Scene,
     ) -> Result<Box<dyn Vehicle<B>>, SimError> {
+        self.build_vehicle_seeded(scene, Seeds::NONE)
+    }
+
+    /// [`Registry::build_vehicle`] with `seeds` (a registered kind reads
+    /// the scene on its own and takes none).
+    pub(crate) fn build_vehicle_seeded<B: Backend>(
+        &self,
+        scene: &Scene,
+        seeds: Seeds<'_>,
+    ) -> Result<Box<dyn Vehicle<B>>, SimError> {
         if let VehicleKind::Custom(name) = &scene.vehicle.kind {
             let build = self
                 .vehicles
@@ -268,7 +278,7 @@ impl Registry {
                 message,
             });
         }
-        build_vehicle::<B>(scene)
+        build_vehicle_seeded::<B>(scene, seeds)
     }
 
     /// Runs `scene` with its scalar and backend.
@@ -294,7 +304,7 @@ impl Registry {
         self.check(scene)?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
-        builder_from::<B, N>(scene, vehicle, plan)
+        builder_from::<B, N>(scene, vehicle, plan, Seeds::NONE)
     }
 
     /// Runs `scene` on backend `B`.
@@ -304,7 +314,7 @@ impl Registry {
         opts: RunOptions<'_>,
     ) -> Result<RunOutput, SimError> {
         self.check(scene)?;
-        let (vehicle, plan, capacity) = self.parts::<B>(scene, None)?;
+        let (vehicle, plan, capacity) = self.parts::<B>(scene, None, Seeds::NONE)?;
         match capacity {
             6 => simulate::<B, 6>(scene, vehicle, plan, opts),
             _ => simulate::<B, 16>(scene, vehicle, plan, opts),
@@ -325,9 +335,10 @@ impl Registry {
         &self,
         scene: &Scene,
         position: Option<&PositionFn>,
+        seeds: Seeds<'_>,
     ) -> Result<Parts<B>, SimError> {
-        let vehicle = self.build_vehicle::<B>(scene)?;
-        let plan = plan_with::<B>(scene, vehicle.as_ref(), position);
+        let vehicle = self.build_vehicle_seeded::<B>(scene, seeds)?;
+        let plan = plan_with::<B>(scene, vehicle.as_ref(), position, seeds);
         let integrals = plan
             .iter()
             .map(|s| s.mode.integral_count())
@@ -360,7 +371,7 @@ fn simulate<B: Backend, const N: usize>(
     plan: Vec<Segment<'static, B>>,
     opts: RunOptions<'_>,
 ) -> Result<RunOutput, SimError> {
-    builder_from::<B, N>(scene, vehicle, plan)?
+    builder_from::<B, N>(scene, vehicle, plan, Seeds::NONE)?
         .build()?
         .run(opts)
 }
@@ -370,6 +381,7 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
     scene: &Scene,
     vehicle: Box<dyn Vehicle<B>>,
     plan: Vec<Segment<'static, B>>,
+    seeds: Seeds<'_>,
 ) -> Result<SimulationBuilder<'static, B, N>, SimError> {
     let kind: integrators::IntegratorKind = scene
         .integrator
@@ -385,9 +397,14 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
     let i = &scene.initial;
     let mut body = dynamics::RigidBodyState::<B>::at_rest();
     body.r = m::<B>(reference::rotation_f64(i.rotation)).matrix();
-    body.omega = v::<B>(i.omega);
-    body.x = v::<B>(i.x);
-    body.v = v::<B>(i.v);
+    if seeds.any("initial.attitude") {
+        // R₀ ⊕ δ = R₀ Exp(δ), δ = 0 seeded: derivatives in the tangent space.
+        let delta = seeds.vec::<B>("initial.attitude", [0.0; 3]);
+        body.r = body.r * So3Mat::<B>::exp(delta).matrix();
+    }
+    body.omega = seeds.vec::<B>("initial.omega", i.omega);
+    body.x = seeds.vec::<B>("initial.x", i.x);
+    body.v = seeds.vec::<B>("initial.v", i.v);
     let floor = integrators::Dopri::<B>::floor().to_f64_lossless();
     let tol_warning = (kind == integrators::IntegratorKind::Dopri && scene.integrator.tol < floor)
         .then(|| {
@@ -432,14 +449,15 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
 pub(crate) fn gains<B: Backend>(
     scene: &Scene,
     vehicle: &dyn Vehicle<B>,
+    seeds: Seeds<'_>,
 ) -> (
     RigidBodyParams<B>,
     PositionGains<B>,
     AttitudeGains<B>,
     AccelerationModel<B>,
 ) {
-    let (pg, ag, model) = controller_gains::<B>(&scene.gains);
-    (controller_params(scene, vehicle), pg, ag, model)
+    let (pg, ag, model) = controller_gains::<B>(&scene.gains, seeds);
+    (controller_params(scene, vehicle, seeds), pg, ag, model)
 }
 
 /// Mass, inertia and gravity as the scene's controller knows them: the
@@ -447,23 +465,35 @@ pub(crate) fn gains<B: Backend>(
 pub(crate) fn controller_params<B: Backend>(
     scene: &Scene,
     vehicle: &dyn Vehicle<B>,
+    seeds: Seeds<'_>,
 ) -> RigidBodyParams<B> {
-    let l = S::<B>::lit;
     RigidBodyParams {
-        mass: l(scene.vehicle.mass),
+        mass: seeds.lift::<B>("vehicle.mass", scene.vehicle.mass),
         inertia: vehicle.inertia(),
-        gravity: l(scene.vehicle.gravity),
+        gravity: seeds.lift::<B>("vehicle.gravity", scene.vehicle.gravity),
     }
 }
 
 /// The laws' gains and acceleration model from a scene's `[gains]`.
 pub(crate) fn controller_gains<B: Backend>(
     g: &GainsSpec,
+    seeds: Seeds<'_>,
 ) -> (PositionGains<B>, AttitudeGains<B>, AccelerationModel<B>) {
-    let l = S::<B>::lit;
-    let mut pg = PositionGains::<B>::uniform(l(g.k_x), l(g.k_v), l(g.k_i), l(g.c1), l(g.sigma));
+    let l = |name: &str, x: f64| seeds.lift::<B>(name, x);
+    let mut pg = PositionGains::<B>::uniform(
+        l("gains.k_x", g.k_x),
+        l("gains.k_v", g.k_v),
+        l("gains.k_i", g.k_i),
+        l("gains.c1", g.c1),
+        l("gains.sigma", g.sigma),
+    );
     pg.clamp_integral = g.clamp_integral;
-    let ag = AttitudeGains::<B>::uniform(l(g.k_r), l(g.k_omega), l(g.k_att_i), l(g.c2));
+    let ag = AttitudeGains::<B>::uniform(
+        l("gains.k_r", g.k_r),
+        l("gains.k_omega", g.k_omega),
+        l("gains.k_att_i", g.k_att_i),
+        l("gains.c2", g.c2),
+    );
     let model = match g.acceleration_model {
         AccelModel::Nominal => AccelerationModel::Nominal,
         AccelModel::NominalWithoutEstimate => AccelerationModel::NominalWithoutEstimate,
@@ -476,7 +506,7 @@ pub(crate) fn controller_gains<B: Backend>(
 /// entered, later ones keep it (the paper's "when position mode first
 /// starts").
 pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<'static, B>> {
-    plan_with(scene, vehicle, None)
+    plan_with(scene, vehicle, None, Seeds::NONE)
 }
 
 /// A position reference given in f64, whatever the simulation's scalar:
@@ -507,8 +537,9 @@ fn plan_with<B: Backend>(
     scene: &Scene,
     vehicle: &dyn Vehicle<B>,
     position: Option<&PositionFn>,
+    seeds: Seeds<'_>,
 ) -> Vec<Segment<'static, B>> {
-    let (params, pg, ag, model) = gains::<B>(scene, vehicle);
+    let (params, pg, ag, model) = gains::<B>(scene, vehicle, seeds);
     let hover = params.mass * params.gravity;
     let mut position_seen = false;
     scene
@@ -570,12 +601,29 @@ fn position_mode<B: Backend, P: controllers::PositionSource<B> + 'static>(
 /// Builds the built-in vehicle of a scene (a [`VehicleKind::Custom`] kind
 /// needs a [`Registry`]).
 pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, SimError> {
+    build_vehicle_seeded(scene, Seeds::NONE)
+}
+
+/// [`build_vehicle`] with `seeds` (the mass, inertia, gravity, arm and
+/// torque coefficient of the quadrotor-family kinds).
+fn build_vehicle_seeded<B: Backend>(
+    scene: &Scene,
+    seeds: Seeds<'_>,
+) -> Result<Box<dyn Vehicle<B>>, SimError> {
     let l = S::<B>::lit;
     let ve = &scene.vehicle;
-    let j = ops::diag::<B>(l(ve.inertia[0]), l(ve.inertia[1]), l(ve.inertia[2]));
+    let [j0, j1, j2] = B::vec3_to_array(seeds.vec::<B>("vehicle.inertia", ve.inertia));
+    let j = ops::diag::<B>(j0, j1, j2);
     let err = SimError::Vehicle;
-    let mut quad =
-        Quadrotor::<B>::new(l(ve.mass), j, l(ve.gravity), l(ve.arm), l(ve.c_tau_f)).map_err(err)?;
+    let (mass, gravity) = (
+        seeds.lift::<B>("vehicle.mass", ve.mass),
+        seeds.lift::<B>("vehicle.gravity", ve.gravity),
+    );
+    let (arm, c_tau_f) = (
+        seeds.lift::<B>("vehicle.arm", ve.arm),
+        seeds.lift::<B>("vehicle.c_tau_f", ve.c_tau_f),
+    );
+    let mut quad = Quadrotor::<B>::new(mass, j, gravity, arm, c_tau_f).map_err(err)?;
     if let Some(d) = &scene.disturbance {
         quad = quad
             .with_disturbance(Disturbance {
@@ -592,9 +640,7 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
         }
         VehicleKind::FreeRigidBody => Box::new(FreeRigidBody::new(j).map_err(err)?),
         VehicleKind::Hexarotor => {
-            let mut hex =
-                Hexarotor::<B>::new(l(ve.mass), j, l(ve.gravity), l(ve.arm), l(ve.c_tau_f))
-                    .map_err(err)?;
+            let mut hex = Hexarotor::<B>::new(mass, j, gravity, arm, c_tau_f).map_err(err)?;
             if let Some(d) = quad.fixed_disturbance() {
                 hex = hex.with_disturbance(d).map_err(err)?;
             }
@@ -617,4 +663,80 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
             )));
         }
     })
+}
+
+/// The scene parameters a run takes derivatives with respect to, by name
+/// (see [`PARAMETERS`]); a name's position is its direction. Empty for
+/// every run but a gradient's ([`crate::sensitivity`]), and then each
+/// number reads exactly as without it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Seeds<'a> {
+    names: &'a [&'a str],
+}
+
+/// The scene parameters a gradient can be taken with respect to: the
+/// gains, the quadrotor-family vehicle's numbers (`inertia` per axis), and
+/// the initial state per component, the attitude as a perturbation
+/// `R₀ Exp(δ)` in the body frame.
+pub const PARAMETERS: &[&str] = &[
+    "gains.k_x",
+    "gains.k_v",
+    "gains.k_i",
+    "gains.c1",
+    "gains.sigma",
+    "gains.k_r",
+    "gains.k_omega",
+    "gains.k_att_i",
+    "gains.c2",
+    "vehicle.mass",
+    "vehicle.gravity",
+    "vehicle.arm",
+    "vehicle.c_tau_f",
+    "vehicle.inertia[0]",
+    "vehicle.inertia[1]",
+    "vehicle.inertia[2]",
+    "initial.x[0]",
+    "initial.x[1]",
+    "initial.x[2]",
+    "initial.v[0]",
+    "initial.v[1]",
+    "initial.v[2]",
+    "initial.omega[0]",
+    "initial.omega[1]",
+    "initial.omega[2]",
+    "initial.attitude[0]",
+    "initial.attitude[1]",
+    "initial.attitude[2]",
+];
+
+impl<'a> Seeds<'a> {
+    /// No seeds: every number as the scene gives it.
+    pub(crate) const NONE: Seeds<'static> = Seeds { names: &[] };
+
+    /// `names` as directions 0, 1, …
+    pub(crate) fn new(names: &'a [&'a str]) -> Self {
+        Self { names }
+    }
+
+    /// `x`, seeded if `name` is one of the names.
+    pub(crate) fn lift<B: Backend>(&self, name: &str, x: f64) -> S<B> {
+        match self.names.iter().position(|n| *n == name) {
+            Some(i) => S::<B>::seeded(x, i),
+            None => S::<B>::lit(x),
+        }
+    }
+
+    /// The vector `a`, component `k` named `prefix[k]`.
+    pub(crate) fn vec<B: Backend>(&self, prefix: &str, a: [f64; 3]) -> lie::V3<B> {
+        if !self.any(prefix) {
+            return v::<B>(a);
+        }
+        let c = |k: usize| self.lift::<B>(&format!("{prefix}[{k}]"), a[k]);
+        B::vec3(c(0), c(1), c(2))
+    }
+
+    /// Some name starts with `prefix`.
+    pub(crate) fn any(&self, prefix: &str) -> bool {
+        self.names.iter().any(|n| n.starts_with(prefix))
+    }
 }

@@ -59,11 +59,15 @@ pub struct SceneBounds {
 /// checked on the numbers that fly.
 fn params(scene: &Scene) -> Result<RigidBodyParams<B>, SimError> {
     let v = crate::build_vehicle::<B>(scene)?;
-    Ok(crate::from_scene::controller_params(scene, v.as_ref()))
+    Ok(crate::from_scene::controller_params(
+        scene,
+        v.as_ref(),
+        crate::from_scene::Seeds::NONE,
+    ))
 }
 
 fn gains_of(g: &GainsSpec) -> (PositionGains<B>, AttitudeGains<B>) {
-    let (pg, ag, _) = crate::from_scene::controller_gains::<B>(g);
+    let (pg, ag, _) = crate::from_scene::controller_gains::<B>(g, crate::from_scene::Seeds::NONE);
     (pg, ag)
 }
 

@@ -75,6 +75,7 @@ pub mod reference;
 pub mod regress;
 mod report;
 pub mod scene;
+pub mod sensitivity;
 mod sim;
 pub mod stress;
 

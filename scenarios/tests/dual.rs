@@ -1,10 +1,123 @@
-//! The whole closed loop on the dual scalar: the real part of a dual run is
-//! the `f64` run bit for bit, on every stepper (the paper-flip crosses the
-//! integral's saturation and switches modes, so events and switches are
-//! located on the real part alone).
+//! The whole closed loop on the dual scalar. Its real part is the `f64`
+//! run bit for bit on every stepper, and its gradients equal central
+//! differences of `f64` runs: the paper-flip crosses the integral's
+//! saturation (located events whose times move with the parameters) and
+//! switches modes.
 
-use lie::{NalgebraDual, NalgebraF64};
-use scenarios::{Registry, builtin};
+use lie::{Backend, Dual, NalgebraDual, NalgebraF64, Real, S};
+use scenarios::{Registry, Scene, SimState, builtin, sensitivity};
+
+/// The gains and the initial state (the attitude is seeded in the API
+/// tests below: a scene's rotation is not a number to difference).
+const SEEDS: [&str; 18] = [
+    "gains.k_x",
+    "gains.k_v",
+    "gains.k_i",
+    "gains.c1",
+    "gains.sigma",
+    "gains.k_r",
+    "gains.k_omega",
+    "gains.k_att_i",
+    "gains.c2",
+    "initial.x[0]",
+    "initial.x[1]",
+    "initial.x[2]",
+    "initial.v[0]",
+    "initial.v[1]",
+    "initial.v[2]",
+    "initial.omega[0]",
+    "initial.omega[1]",
+    "initial.omega[2]",
+];
+
+fn set(scene: &mut Scene, name: &str, d: f64) {
+    let (g, i) = (&mut scene.gains, &mut scene.initial);
+    let p = match name {
+        "gains.k_x" => &mut g.k_x,
+        "gains.k_v" => &mut g.k_v,
+        "gains.k_i" => &mut g.k_i,
+        "gains.c1" => &mut g.c1,
+        "gains.sigma" => &mut g.sigma,
+        "gains.k_r" => &mut g.k_r,
+        "gains.k_omega" => &mut g.k_omega,
+        "gains.k_att_i" => &mut g.k_att_i,
+        "gains.c2" => &mut g.c2,
+        _ => {
+            let k = usize::from(name.as_bytes()[name.len() - 2] - b'0');
+            match &name[..name.len() - 3] {
+                "initial.x" => &mut i.x[k],
+                "initial.v" => &mut i.v[k],
+                "initial.omega" => &mut i.omega[k],
+                other => panic!("no parameter {other}"),
+            }
+        }
+    };
+    *p += d;
+}
+
+/// A fixed linear functional of the final state: every component's
+/// sensitivity shows in it.
+fn cost<B: Backend>(s: &SimState<'_, B>) -> S<B> {
+    let l = S::<B>::lit;
+    let w = [0.3, -0.7, 0.5];
+    let (x, v, o) = (
+        B::vec3_to_array(s.body.x),
+        B::vec3_to_array(s.body.v),
+        B::vec3_to_array(s.body.omega),
+    );
+    let mut c = l(0.0);
+    for k in 0..3 {
+        c += x[k] * l(w[k]) + v[k] * l(0.5 * w[k]) + o[k] * l(0.1 * w[k]);
+    }
+    c
+}
+
+fn f64_cost(scene: &Scene) -> f64 {
+    let mut sim = Registry::new()
+        .builder::<NalgebraF64, 6>(scene)
+        .unwrap()
+        .build()
+        .unwrap();
+    sim.advance_to(scene.duration).unwrap();
+    cost(&sim.state())
+}
+
+#[test]
+fn paper_flip_gradient_equals_central_differences() {
+    let reg = Registry::new();
+    for kind in ["rk4", "rkmk4", "lgvi"] {
+        let mut scene = builtin::paper_flip();
+        scene.integrator.kind = kind.into();
+        let g = sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| cost(s)).unwrap();
+        assert_eq!(
+            g.value.to_bits(),
+            f64_cost(&scene).to_bits(),
+            "{kind}: value"
+        );
+        let scale = g.gradient.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        let mut best = (f64::INFINITY, 0.0);
+        for h in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
+            let mut worst = 0.0f64;
+            for (i, name) in SEEDS.iter().enumerate() {
+                let at = |d: f64| {
+                    let mut s = scene.clone();
+                    set(&mut s, name, d);
+                    f64_cost(&s)
+                };
+                let fd = (at(h) - at(-h)) / (2.0 * h);
+                worst = worst.max((g.gradient[i] - fd).abs() / scale);
+            }
+            if worst < best.0 {
+                best = (worst, h);
+            }
+        }
+        println!(
+            "{kind}: gradient vs central differences {:.1e} (best step {:.0e})",
+            best.0, best.1
+        );
+        assert!(best.0 < 1e-6, "{kind}: {:e}", best.0);
+    }
+}
 
 #[test]
 fn paper_flip_real_part_is_the_f64_run_on_every_stepper() {
@@ -17,29 +130,64 @@ fn paper_flip_real_part_is_the_f64_run_on_every_stepper() {
             .unwrap()
             .build()
             .unwrap();
-        let mut b = reg
-            .builder::<NalgebraDual<1>, 6>(&scene)
-            .unwrap()
-            .build()
-            .unwrap();
         a.advance_to(scene.duration).unwrap();
-        b.advance_to(scene.duration).unwrap();
-        let (sa, sb) = (a.state(), b.state());
-        assert_eq!(sa.segment, sb.segment, "{kind}: segment");
+        let mut last = None;
+        sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| {
+            last = Some((*s.body, s.integrals.to_vec(), s.segment));
+            Dual::constant(0.0)
+        })
+        .unwrap();
+        let (body, integrals, segment) = last.unwrap();
+        let sa = a.state();
+        assert_eq!(sa.segment, segment, "{kind}: segment");
         let fa = [sa.body.x, sa.body.v, sa.body.omega];
-        let fb = [sb.body.x, sb.body.v, sb.body.omega];
+        let fb = [body.x, body.v, body.omega];
         for (u, w) in fa.iter().zip(&fb) {
             for k in 0..3 {
                 assert_eq!(u[k].to_bits(), w[k].re.to_bits(), "{kind}: {u} vs {w}");
             }
         }
-        for (u, w) in sa.integrals.iter().zip(sb.integrals) {
+        for (u, w) in sa.integrals.iter().zip(&integrals) {
             assert_eq!(u.to_bits(), w.re.to_bits(), "{kind}: integrals");
         }
-        println!(
-            "{kind}: real part identical to the f64 run at t = {} (segment {})",
-            b.time(),
-            sb.segment
-        );
+        assert!(body.x.iter().all(|x| x.is_finite()), "{kind}: derivatives");
     }
+}
+
+#[test]
+fn bad_seeds_are_errors_naming_them() {
+    let reg = Registry::new();
+    let scene = builtin::paper_flip();
+    let zero = |_: f64, _: &SimState<'_, NalgebraDual<1>>| Dual::constant(0.0);
+    let e = sensitivity::gradient(&reg, &scene, ["gains.k_y"], 1.0, zero).unwrap_err();
+    assert!(
+        e.to_string().contains("`gains.k_y` is not a parameter"),
+        "{e}"
+    );
+    let e = sensitivity::gradient(&reg, &scene, ["gains.k_x", "gains.k_x"], 1.0, |_, _| {
+        Dual::constant(0.0)
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("seeded twice"), "{e}");
+    let e = sensitivity::gradient(&reg, &scene, ["gains.k_x"], 0.0, zero).unwrap_err();
+    assert!(e.to_string().contains("every"), "{e}");
+}
+
+/// A cost that does not depend on a seeded parameter gets an exact zero:
+/// before the position mode starts (0.4 s), nothing reads the position
+/// integral's gain `k_i`.
+#[test]
+fn an_unread_parameter_has_an_exact_zero_derivative() {
+    let mut scene = builtin::paper_flip();
+    scene.duration = 0.3;
+    let g = sensitivity::gradient(
+        &Registry::new(),
+        &scene,
+        ["gains.k_i", "gains.k_r"],
+        0.3,
+        |_, s| cost(s),
+    )
+    .unwrap();
+    assert_eq!(g.gradient[0], 0.0);
+    assert!(g.gradient[1] != 0.0);
 }

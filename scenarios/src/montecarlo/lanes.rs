@@ -89,7 +89,8 @@ impl Model {
     fn new(setup: &Setup) -> Result<Self, SimError> {
         let scene = setup.scene(&setup.initial(0));
         let vehicle = crate::build_vehicle::<E>(&scene)?;
-        let (params, pos, att, model) = crate::from_scene::gains::<E>(&scene, vehicle.as_ref());
+        let (params, pos, att, model) =
+            crate::from_scene::gains::<E>(&scene, vehicle.as_ref(), crate::from_scene::Seeds::NONE);
         Ok(Self {
             vehicle,
             params,

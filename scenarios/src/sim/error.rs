@@ -62,6 +62,17 @@ pub enum SimError {
     },
     /// A sink could not write (disk full, …).
     Output(OutputError),
+    /// A derivative of a gradient run ([`crate::sensitivity`]) turned
+    /// non-finite while the value stayed finite.
+    NonFiniteDerivative {
+        /// The seeded parameter it is taken with respect to, e.g.
+        /// `"gains.k_x"`.
+        parameter: String,
+        /// When it was found, s.
+        t: f64,
+        /// The state component, e.g. `"omega[1]"`.
+        component: String,
+    },
 }
 
 /// A builder setting's error.
@@ -149,6 +160,15 @@ impl std::fmt::Display for SimError {
             SimError::Step { source, .. } => write!(f, "integrator: {source}"),
             SimError::Control { t, source } => write!(f, "controller: at t = {t}: {source}"),
             SimError::Output(e) => write!(f, "output: {e}"),
+            SimError::NonFiniteDerivative {
+                parameter,
+                t,
+                component,
+            } => write!(
+                f,
+                "gradient: the derivative of {component} with respect to `{parameter}` is not \
+                 finite at t = {t} (the value is)"
+            ),
         }
     }
 }
@@ -165,9 +185,10 @@ impl std::error::Error for SimError {
             SimError::Step { source, .. } => Some(source),
             SimError::Control { source, .. } => Some(source),
             SimError::Output(e) => Some(e),
-            SimError::CustomVehicle { .. } | SimError::Setting { .. } | SimError::Layout { .. } => {
-                None
-            }
+            SimError::CustomVehicle { .. }
+            | SimError::Setting { .. }
+            | SimError::Layout { .. }
+            | SimError::NonFiniteDerivative { .. } => None,
         }
     }
 }

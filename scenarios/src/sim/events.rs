@@ -210,12 +210,18 @@ fn crossing_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
 ) -> Result<S<B>, SimError> {
     let l = S::<B>::lit;
     let t_s = l(t).with_derivatives_of(phase);
+    // On a copy of an adaptive stepper: these steps are the dual run's
+    // alone and must not move the step size the plain run goes on with.
     let mut redo = |sys: &mut ClosedLoop<'_, '_, B, N>, hc: S<B>| {
         let mut yy = *before;
-        stepper.reset();
-        stepper
-            .step(sys, t_s, hc, &mut yy)
-            .map_err(|e| SimError::step(t, hc.to_f64_lossless(), e, sys.error.take()))?;
+        let stepped = match stepper.resampler() {
+            Some(mut copy) => copy.step(sys, t_s, hc, &mut yy),
+            None => {
+                stepper.reset();
+                stepper.step(sys, t_s, hc, &mut yy)
+            }
+        };
+        stepped.map_err(|e| SimError::step(t, hc.to_f64_lossless(), e, sys.error.take()))?;
         Ok::<_, SimError>(yy)
     };
     let hc = tc - t;
