@@ -1,0 +1,58 @@
+//! What a gradient costs: the paper-flip (4 s, RK4 at h = 1 ms) as one
+//! nalgebra-f64 run, and as one dual run with 12 seeded parameters (the 9
+//! gains and the initial position), in the same binary. Central
+//! differences would take 25 plain runs for the same 12 derivatives.
+//!
+//! `cargo bench -p geopid-scenarios --bench gradient`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use lie::{Dual, NalgebraF64};
+use scenarios::{Registry, builtin, sensitivity};
+use std::hint::black_box;
+
+const SEEDS: [&str; 12] = [
+    "gains.k_x",
+    "gains.k_v",
+    "gains.k_i",
+    "gains.c1",
+    "gains.sigma",
+    "gains.k_r",
+    "gains.k_omega",
+    "gains.k_att_i",
+    "gains.c2",
+    "initial.x[0]",
+    "initial.x[1]",
+    "initial.x[2]",
+];
+
+fn bench(c: &mut Criterion) {
+    let reg = Registry::new();
+    let mut scene = builtin::paper_flip();
+    scene.integrator.kind = "rk4".into();
+    let mut g = c.benchmark_group("paper-flip-rk4-1ms");
+    g.sample_size(10);
+    g.bench_function("f64-run", |b| {
+        b.iter(|| {
+            let mut sim = reg
+                .builder::<NalgebraF64, 6>(&scene)
+                .unwrap()
+                .build()
+                .unwrap();
+            sim.advance_to(scene.duration).unwrap();
+            black_box(sim.state().body.x);
+        })
+    });
+    g.bench_function("gradient-12", |b| {
+        b.iter(|| {
+            let out = sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| {
+                s.body.x[2] * Dual::constant(1.0)
+            })
+            .unwrap();
+            black_box(out.gradient);
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
