@@ -85,10 +85,13 @@ impl<const N: usize> Dual<N> {
     /// `f(x)` given `f(x)` and `f'(x)`: the chain rule.
     #[inline(always)]
     fn chain(self, f0: f64, f1: f64) -> Self {
-        Self {
-            re: f0,
-            eps: self.eps.map(|e| e * f1),
+        // Plain loops over the array: they vectorise (the closure forms
+        // of `map`/`from_fn` were left as calls in the closed loop).
+        let mut eps = self.eps;
+        for e in &mut eps {
+            *e *= f1;
         }
+        Self { re: f0, eps }
     }
 
     /// The chain rule where `f'(x)` is infinite: zero derivatives stay
@@ -156,9 +159,13 @@ impl<const N: usize> Add for Dual<N> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
+        let mut eps = self.eps;
+        for (e, d) in eps.iter_mut().zip(&o.eps) {
+            *e += d;
+        }
         Self {
             re: self.re + o.re,
-            eps: core::array::from_fn(|i| self.eps[i] + o.eps[i]),
+            eps,
         }
     }
 }
@@ -167,9 +174,13 @@ impl<const N: usize> Sub for Dual<N> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
+        let mut eps = self.eps;
+        for (e, d) in eps.iter_mut().zip(&o.eps) {
+            *e -= d;
+        }
         Self {
             re: self.re - o.re,
-            eps: core::array::from_fn(|i| self.eps[i] - o.eps[i]),
+            eps,
         }
     }
 }
@@ -180,9 +191,13 @@ impl<const N: usize> Mul for Dual<N> {
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
+        let mut eps = self.eps;
+        for (e, d) in eps.iter_mut().zip(&o.eps) {
+            *e = *e * o.re + d * self.re;
+        }
         Self {
             re: self.re * o.re,
-            eps: core::array::from_fn(|i| self.eps[i] * o.re + o.eps[i] * self.re),
+            eps,
         }
     }
 }
@@ -193,10 +208,11 @@ impl<const N: usize> Div for Dual<N> {
     fn div(self, o: Self) -> Self {
         let re = self.re / o.re;
         let inv = 1.0 / o.re;
-        Self {
-            re,
-            eps: core::array::from_fn(|i| (self.eps[i] - re * o.eps[i]) * inv),
+        let mut eps = self.eps;
+        for (e, d) in eps.iter_mut().zip(&o.eps) {
+            *e = (*e - re * d) * inv;
         }
+        Self { re, eps }
     }
 }
 
@@ -204,10 +220,11 @@ impl<const N: usize> Neg for Dual<N> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        Self {
-            re: -self.re,
-            eps: self.eps.map(|e| -e),
+        let mut eps = self.eps;
+        for e in &mut eps {
+            *e = -*e;
         }
+        Self { re: -self.re, eps }
     }
 }
 
