@@ -211,3 +211,54 @@ fn unused_gain_has_exact_zero_derivative() {
         assert_eq!(dual[0].eps[i], 0.0, "thrust depends on attitude gain {i}?");
     }
 }
+
+/// The attitude loop linearised at the rotation by π about `e1` from one
+/// dual evaluation of its vector field (state: the attitude as
+/// `R_π Exp(δ)`, `Ω`, `e_I`; `R_d = I`, `Ω_d = 0`): its one unstable
+/// eigenvalue is the positive root of `J₁ s³ + k_Ω s² + (k_I − k_R) s −
+/// k_I c2`, which the near-π study uses (`gain_check::lambda_plus`,
+/// bisection to rounding). Agreement to 1e-9 relative is what a 9×9
+/// nonsymmetric eigenproblem with a simple, well-separated root keeps of
+/// an exact Jacobian; a Jacobian wrong in any entry of the moment's
+/// derivative moves the root at first order.
+#[test]
+fn linearisation_at_pi_has_the_closed_form_unstable_root() {
+    type B = NalgebraDual<9>;
+    let seed = |i: usize| Dual::<9>::variable(0.0, i);
+    let delta = B::vec3(seed(0), seed(1), seed(2));
+    let omega = B::vec3(seed(3), seed(4), seed(5));
+    let e_i = B::vec3(seed(6), seed(7), seed(8));
+    let l = S::<B>::lit;
+    let r_pi = So3Mat::<B>::exp(B::vec3(l(std::f64::consts::PI), l(0.0), l(0.0)));
+    let r =
+        So3Mat::<B>::from_matrix_unchecked(r_pi.as_matrix() * So3Mat::<B>::exp(delta).as_matrix());
+    let params = RigidBodyParams::<B>::diagonal(MASS, INERTIA, GRAVITY);
+    let gains = AttitudeGains::<B>::paper();
+    let reference = AttitudeReference {
+        rd: So3Mat::<B>::identity(),
+        omega_d: B::vec3(l(0.0), l(0.0), l(0.0)),
+        omega_d_dot: B::vec3(l(0.0), l(0.0), l(0.0)),
+    };
+    let out = attitude_control(&params, &gains, r, omega, e_i, &reference).unwrap();
+    // δ̇ = J_r(δ)⁻¹ Ω, J Ω̇ = M − Ω × JΩ, ė_I = e_Ω + c2 e_R.
+    let j = params.inertia;
+    let delta_dot = lie::so3::right_jacobian_inv::<B>(delta) * omega;
+    let omega_dot = lie::ops::inverse::<B>(j).unwrap() * (out.moment - omega.cross(&(j * omega)));
+    let rows: Vec<Dual<9>> = [delta_dot, omega_dot, out.e_i_rate]
+        .iter()
+        .flat_map(|v| v.iter().copied())
+        .collect();
+    let a = nalgebra::SMatrix::<f64, 9, 9>::from_fn(|i, k| rows[i].eps[k]);
+    let unstable = a
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.re)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let g = controllers::paper::ATTITUDE_GAINS;
+    let closed = controllers::gain_check::lambda_plus(INERTIA[0], g.k_r, g.k_omega, g.k_i, g.c2);
+    println!("unstable eigenvalue at π: dual Jacobian {unstable:.15}, closed form {closed:.15}");
+    assert!(
+        (unstable - closed).abs() < 1e-9 * closed,
+        "{unstable} vs {closed}"
+    );
+}

@@ -42,7 +42,10 @@ impl<B: SimdBackend> Backend for B where B::Scalar: Real {}
 /// are [`SimdBackend`]'s; generic code reaches them through the bound).
 macro_rules! inherent_primitives {
     ($name:ident) => {
-        impl $name {
+        inherent_primitives!([] $name);
+    };
+    ([$($gen:tt)*] $name:ty) => {
+        impl<$($gen)*> $name {
             /// Short name, as [`SimdBackend::NAME`](crate::SimdBackend::NAME).
             pub const NAME: &'static str = <$name as $crate::SimdBackend>::NAME;
             /// [`SimdBackend::vec3`](crate::SimdBackend::vec3).

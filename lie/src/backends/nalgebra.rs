@@ -128,6 +128,8 @@ mod dual {
     #[derive(Copy, Clone, Default, Debug, PartialEq, Eq, Hash)]
     pub struct NalgebraDual<const N: usize>;
 
+    crate::backend::inherent_primitives!([const N: usize] NalgebraDual<N>);
+
     impl<const N: usize> SimdBackend for NalgebraDual<N> {
         type Scalar = Dual<N>;
         type Vec3 = Vector3<Dual<N>>;
