@@ -31,11 +31,12 @@
 //! # Ok::<(), scenarios::SimError>(())
 //! ```
 //!
-//! Limits: derivatives through a switch located by a condition (`Ψ` below
-//! a threshold, a user predicate) do not include the motion of the switch
-//! time; Dormand–Prince's step sizes are taken as the `f64` run chose
-//! them (constants), so its derivative is that of the flight with those
-//! steps.
+//! Located events move with the parameters: a saturation crossing and a
+//! switch on `Ψ` below a threshold carry their time's derivative. A switch
+//! on a user predicate cannot (a boolean has no derivative): a gradient
+//! through one is an error. Dormand–Prince's step sizes are taken as the
+//! `f64` run chose them (constants), so its derivative is that of the
+//! flight with those steps.
 
 use lie::{Dual, NalgebraDual, Real, S, SimdReal};
 

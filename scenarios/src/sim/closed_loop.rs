@@ -271,6 +271,18 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         }
     }
 
+    /// The active segment's switch condition as a residual that is
+    /// negative where it holds, `Ψ − threshold` for `PsiBelow`: what the
+    /// derivative of a located switch time is taken from. `None` for a
+    /// user predicate (a boolean has no derivative) or without a command.
+    pub fn condition_residual(&mut self, t: S<B>, y: &State<B, N>) -> Option<S<B>> {
+        let Until::PsiBelow(th) = self.plan[self.active].until else {
+            return None;
+        };
+        let c = self.command(t, y)?;
+        Some(c.out.psi - S::<B>::lit(th))
+    }
+
     /// Whether the run ends at `(t, y)`: a limit of `guard` passed (noted
     /// in `diverged`, checked first) or the stop condition holds (false
     /// without a command to show them).

@@ -107,7 +107,7 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
 
 /// Where a step was split at a crossing: the located time, the steps
 /// taken, the branches before and after, and the grid phase from there
-/// (see [`crossing_derivatives`]).
+/// (see [`event_derivatives`]).
 pub(crate) struct Split<B: Backend> {
     pub t: f64,
     pub steps: u64,
@@ -165,7 +165,12 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     }
     let mut next_phase = l(0.0);
     if S::<B>::CARRIES_DERIVATIVES {
-        next_phase = crossing_derivatives(sys, stepper, c, (t, tc, h, before, phase), y)?;
+        let target = c.target_s;
+        let slot = c.slot;
+        let residual = &mut |_: &mut ClosedLoop<'_, '_, B, N>, _: f64, yy: &State<B, N>| {
+            yy.extra[slot] - target
+        };
+        next_phase = event_derivatives(sys, stepper, residual, (t, tc, h, before, phase), y)?;
         steps += 4;
     }
     // Land the slot on ±level exactly and integrate the next step on the
@@ -183,28 +188,34 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
     })
 }
 
-/// A dual run's derivatives at a crossing located at `tc` inside the step
+/// The residual whose zero an event is located at, as the law's scalar:
+/// `(sys, t, y) ↦ g` (`e_slot − (±σ)` for a crossing, `Ψ − threshold` for
+/// a switch); negative on one side.
+pub(crate) type Residual<'r, 's, 'a, B, const N: usize> =
+    dyn FnMut(&mut ClosedLoop<'s, 'a, B, N>, f64, &State<B, N>) -> S<B> + 'r;
+
+/// A dual run's derivatives at an event located at `tc` inside the step
 /// `(t, h)` from `before` (`phase`: the derivatives of `t`); `y` holds the
-/// values there and gets the derivatives, and the crossing time's
+/// values there and gets the derivatives, and the event time's
 /// derivatives are returned as a zero carrying them. The values are left
 /// alone: the real part stays the plain run's.
 ///
-/// The crossing time moves with the seeded inputs. The located time solves
-/// `g = s(t_c) − target = 0` for the slot `s` of the sub-step `t → t_c`,
-/// so by the implicit function theorem `t_c′ = (target′ − s′)/(∂s/∂t_c)`,
-/// with `s′` from the sub-step redone with its end held fixed and
-/// `∂s/∂t_c` from the same discrete sub-step (a central difference of its
-/// values, δ = 1e-4 h: truncation δ²s‴ and rounding ε s/δ are both below
-/// 1e-9 of the rate). The sub-step is then redone with its length moving
-/// by `t_c′ − t′`, and the grid runs on from `t_c` carrying `t_c′`, so the
-/// derivative is that of the flight the plain run computes, step lengths
-/// and all (the jump of the vector field across the crossing, `(f⁻ − f⁺)
-/// t_c′`, comes out of the two sub-steps' lengths; without it a gradient
-/// through a saturation crossing is wrong at first order).
-fn crossing_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
-    sys: &mut ClosedLoop<'_, '_, B, N>,
+/// The event time moves with the seeded inputs. The located time solves
+/// `g(t_c, y(t_c)) = 0` for the state `y` of the sub-step `t → t_c`, so by
+/// the implicit function theorem `t_c′ = −g′/ġ`, with `g′` from the
+/// sub-step redone with its end held fixed and `ġ` from the same discrete
+/// sub-step (a central difference of its values, δ = 1e-4 h: truncation
+/// δ²g‴ and rounding ε g/δ are both below 1e-9 of the rate). The sub-step
+/// is then redone with its length moving by `t_c′ − t′`, and the grid runs
+/// on from `t_c` carrying `t_c′`, so the derivative is that of the flight
+/// the plain run computes, step lengths and all (the jump of the vector
+/// field across the event, `(f⁻ − f⁺) t_c′`, comes out of the two
+/// sub-steps' lengths; without it a gradient through a saturation crossing
+/// or a switch is wrong at first order).
+pub(crate) fn event_derivatives<'s, 'a, B: Backend, const N: usize, I: Integrator<B, N>>(
+    sys: &mut ClosedLoop<'s, 'a, B, N>,
     stepper: &mut I,
-    c: &Crossing<B>,
+    residual: &mut Residual<'_, 's, 'a, B, N>,
     (t, tc, h, before, phase): (f64, f64, f64, &State<B, N>, S<B>),
     y: &mut State<B, N>,
 ) -> Result<S<B>, SimError> {
@@ -212,7 +223,7 @@ fn crossing_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
     let t_s = l(t).with_derivatives_of(phase);
     // On a copy of an adaptive stepper: these steps are the dual run's
     // alone and must not move the step size the plain run goes on with.
-    let mut redo = |sys: &mut ClosedLoop<'_, '_, B, N>, hc: S<B>| {
+    let mut redo = |sys: &mut ClosedLoop<'s, 'a, B, N>, hc: S<B>| {
         let mut yy = *before;
         let stepped = match stepper.resampler() {
             Some(mut copy) => copy.step(sys, t_s, hc, &mut yy),
@@ -232,9 +243,11 @@ fn crossing_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
     } else {
         (hc, hc + delta)
     };
-    let slot = |yy: State<B, N>| yy.extra[c.slot].to_f64_lossless();
-    let rate = (slot(redo(sys, l(hi))?) - slot(redo(sys, l(lo))?)) / (hi - lo);
-    let shift = l(0.0).with_derivatives_of((c.target_s - held.extra[c.slot]) / l(rate));
+    let (y_hi, y_lo) = (redo(sys, l(hi))?, redo(sys, l(lo))?);
+    let (g_hi, g_lo) = (residual(sys, t + hi, &y_hi), residual(sys, t + lo, &y_lo));
+    let rate = (g_hi.to_f64_lossless() - g_lo.to_f64_lossless()) / (hi - lo);
+    let g = residual(sys, tc, &held);
+    let shift = l(0.0).with_derivatives_of(-g / l(rate));
     let moved = redo(sys, l(hc).with_derivatives_of(shift - phase))?;
     with_derivatives_of_state::<B, N>(y, &moved);
     Ok(shift)

@@ -17,7 +17,7 @@ use lie::{Backend, Real, S, SimdReal};
 
 use super::closed_loop::{ClosedLoop, Parked};
 use super::emit::{Emit, Record};
-use super::events::{Crossing, crossing, locate_condition, split_at_crossing};
+use super::events::{Crossing, crossing, event_derivatives, locate_condition, split_at_crossing};
 use super::grid::Grid;
 use super::record::{empty_sample, sample, track, track_figures};
 use super::{
@@ -361,10 +361,9 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         if sys.has_condition() && sys.condition_holds(ts, y) {
             let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
             let step = (t, ts, h, before);
-            r.t = cx.at_condition(*stepper, step, y, &mut r.bps, &mut r.forced)?;
-            // The switch time's own derivatives are not carried (yet): the
-            // grid restarts from it as from a fixed time.
-            (r.seg_start, r.j, r.phase) = (r.t, 0, S::<B>::lit(0.0));
+            let (bps, forced) = (&mut r.bps, &mut r.forced);
+            (r.t, r.phase) = cx.at_condition(*stepper, step, r.phase, y, bps, forced)?;
+            (r.seg_start, r.j) = (r.t, 0);
             return Ok(false);
         }
         // The run's stop condition and the guard: located like a switch,
@@ -687,18 +686,26 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
     /// located by bisection on redone steps; the samples up to it; the
     /// switch there (`bps` becomes the new mode's breakpoints), a new held
     /// command under sampled control, the figures and sample at it, and a
-    /// stepper restart. `y` becomes the state there; returns its time.
+    /// stepper restart. `y` becomes the state there; returns its time and
+    /// the grid phase from there (`phase` is the step's; see
+    /// `Running::phase`).
     fn at_condition<I: Integrator<B, N>>(
         &mut self,
         stepper: &mut I,
         (t, ts, h, before): (f64, f64, f64, &State<B, N>),
+        phase: S<B>,
         y: &mut State<B, N>,
         bps: &mut Vec<Breakpoint<B>>,
         forced: &mut bool,
-    ) -> Result<f64, SimError> {
+    ) -> Result<(f64, S<B>), SimError> {
         let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
         let holds = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt, yy: &_| s.condition_holds(tt, yy);
-        let (tc, y_c) = locate_condition(sys, stepper, holds, (t, ts, h, before, y))?;
+        let (tc, mut y_c) = locate_condition(sys, stepper, holds, (t, ts, h, before, y))?;
+        let mut next_phase = S::<B>::lit(0.0);
+        if S::<B>::CARRIES_DERIVATIVES {
+            let step = (t, tc, h, before, phase);
+            next_phase = switch_derivatives(sys, stepper, step, &mut y_c)?;
+        }
         emit.inside(out, sys, stepper, (t, before), (tc, &y_c))?;
         release(sys, bps.len(), forced);
         *y = y_c;
@@ -711,7 +718,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
         stepper.reset();
-        Ok(tc)
+        Ok((tc, next_phase))
     }
 
     /// At a checkpoint `t` (state `y`): the next segment when `switch_due`
@@ -750,4 +757,29 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         }
         Ok(new)
     }
+}
+
+/// A dual run's derivatives at a located switch (see `event_derivatives`):
+/// the residual is `Ψ − threshold`. A switch on a user predicate has no
+/// residual, so its time's derivative is unknown: an error rather than a
+/// gradient that silently leaves it out.
+fn switch_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    stepper: &mut I,
+    step: (f64, f64, f64, &State<B, N>, S<B>),
+    y: &mut State<B, N>,
+) -> Result<S<B>, SimError> {
+    if !matches!(sys.plan[sys.active].until, Until::PsiBelow(_)) {
+        return Err(SimError::Setting {
+            field: "plan",
+            message: "a switch on a user predicate cannot be differentiated (its time's \
+                      derivative needs a residual): end the segment on Ψ or at a time"
+                .into(),
+        });
+    }
+    let residual = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt: f64, yy: &State<B, N>| {
+        s.condition_residual(S::<B>::lit(tt), yy)
+            .unwrap_or_else(<S<B> as Real>::nan)
+    };
+    event_derivatives(sys, stepper, residual, step, y)
 }
