@@ -709,6 +709,40 @@ pub const PARAMETERS: &[&str] = &[
     "initial.attitude[2]",
 ];
 
+/// The scene's number behind a name of [`PARAMETERS`] (the attitude
+/// perturbation `initial.attitude[k]` has none: it is a direction at
+/// `R₀`, always 0): what a gradient's parameter reads, and what a tuning
+/// step or a finite difference changes.
+pub fn parameter_mut<'s>(scene: &'s mut Scene, name: &str) -> Option<&'s mut f64> {
+    let (g, ve, i) = (&mut scene.gains, &mut scene.vehicle, &mut scene.initial);
+    Some(match name {
+        "gains.k_x" => &mut g.k_x,
+        "gains.k_v" => &mut g.k_v,
+        "gains.k_i" => &mut g.k_i,
+        "gains.c1" => &mut g.c1,
+        "gains.sigma" => &mut g.sigma,
+        "gains.k_r" => &mut g.k_r,
+        "gains.k_omega" => &mut g.k_omega,
+        "gains.k_att_i" => &mut g.k_att_i,
+        "gains.c2" => &mut g.c2,
+        "vehicle.mass" => &mut ve.mass,
+        "vehicle.gravity" => &mut ve.gravity,
+        "vehicle.arm" => &mut ve.arm,
+        "vehicle.c_tau_f" => &mut ve.c_tau_f,
+        _ => {
+            let (base, k) = name.strip_suffix(']')?.split_once('[')?;
+            let k: usize = k.parse().ok().filter(|k| *k < 3)?;
+            match base {
+                "vehicle.inertia" => &mut ve.inertia[k],
+                "initial.x" => &mut i.x[k],
+                "initial.v" => &mut i.v[k],
+                "initial.omega" => &mut i.omega[k],
+                _ => return None,
+            }
+        }
+    })
+}
+
 impl<'a> Seeds<'a> {
     /// No seeds: every number as the scene gives it.
     pub(crate) const NONE: Seeds<'static> = Seeds { names: &[] };

@@ -38,7 +38,7 @@
 //! `f64` run chose them (constants), so its derivative is that of the
 //! flight with those steps.
 
-use lie::{Dual, NalgebraDual, Real, S, SimdReal};
+use lie::{Backend, Dual, NalgebraDual, NalgebraF64, Real, S, SimdReal};
 
 use crate::from_scene::{Seeds, builder_from};
 use crate::scene::{Scene, VehicleKind};
@@ -92,14 +92,14 @@ pub fn gradient<const K: usize>(
     let s = Seeds::new(&seeds);
     let (vehicle, plan, capacity) = registry.parts::<NalgebraDual<K>>(scene, None, s)?;
     let total = match capacity {
-        6 => fly(
+        6 => fly_dual(
             builder_from::<_, 6>(scene, vehicle, plan, s)?.build()?,
             scene.duration,
             every,
             &seeds,
             &mut cost,
         ),
-        _ => fly(
+        _ => fly_dual(
             builder_from::<_, 16>(scene, vehicle, plan, s)?.build()?,
             scene.duration,
             every,
@@ -114,33 +114,47 @@ pub fn gradient<const K: usize>(
     })
 }
 
-/// Runs `sim` to `duration`, summing `cost` at every `every` and checking
-/// the derivatives at each of those instants.
-fn fly<const K: usize, const N: usize>(
-    mut sim: Simulation<'static, NalgebraDual<K>, N>,
+/// Runs `sim` to `duration`, calling `at` at `every, 2·every, …` and at
+/// the duration.
+fn fly<B: Backend, const N: usize>(
+    mut sim: Simulation<'static, B, N>,
+    duration: f64,
+    every: f64,
+    mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), SimError>,
+) -> Result<(), SimError> {
+    let mut k = 1u64;
+    loop {
+        let t = (k as f64 * every).min(duration);
+        sim.advance_to(t)?;
+        at(t, &sim.state())?;
+        if t >= duration {
+            return Ok(());
+        }
+        k += 1;
+    }
+}
+
+/// [`fly`] on duals: the cost summed, the derivatives checked at each
+/// instant.
+fn fly_dual<const K: usize, const N: usize>(
+    sim: Simulation<'static, NalgebraDual<K>, N>,
     duration: f64,
     every: f64,
     seeds: &[&str; K],
     cost: &mut impl FnMut(f64, &SimState<'_, NalgebraDual<K>>) -> Dual<K>,
 ) -> Result<Dual<K>, SimError> {
     let mut total = Dual::constant(0.0);
-    let mut k = 1u64;
-    loop {
-        let t = (k as f64 * every).min(duration);
-        sim.advance_to(t)?;
-        let state = sim.state();
-        if let Some(e) = non_finite_derivative(&state, seeds) {
+    fly(sim, duration, every, |t, state| {
+        if let Some(e) = non_finite_derivative(state, seeds) {
             return Err(e);
         }
-        total += cost(t, &state);
+        total += cost(t, state);
         if !total.is_finite() && total.re.is_finite() {
             return Err(named(seeds, &total, t, "the cost".into()));
         }
-        if t >= duration {
-            return Ok(total);
-        }
-        k += 1;
-    }
+        Ok(())
+    })?;
+    Ok(total)
 }
 
 /// The error for `x`, whose first non-finite derivative names the
@@ -216,4 +230,207 @@ fn check_seeds(scene: &Scene, seeds: &[&str]) -> Result<(), SimError> {
         }
     }
     Ok(())
+}
+
+/// A cost written once for a plain run and a dual one: [`tune`] evaluates
+/// it on both (line searches on plain `f64` runs, gradients on dual ones).
+pub trait Cost {
+    /// The term at an instant `t` of state `state`; the cost is their sum.
+    fn at<B: Backend>(&mut self, t: f64, state: &SimState<'_, B>) -> S<B>;
+}
+
+/// `Σ ‖x(t_k) − x_d(t_k)‖² Δt` at `t_k = k Δt`: the squared position
+/// tracking error of a scene's (first) position reference, integrated.
+#[derive(Clone, Debug)]
+pub struct Tracking {
+    reference: crate::scene::PositionRef,
+    dt: f64,
+}
+
+impl Tracking {
+    /// The tracking cost of `scene`'s first position segment, sampled
+    /// every `dt` (the `every` of the run it is summed over).
+    pub fn of(scene: &Scene, dt: f64) -> Result<Self, SimError> {
+        let reference = scene
+            .plan
+            .iter()
+            .find_map(|s| s.position.clone())
+            .ok_or_else(|| {
+                SimError::Scene(SceneError::at_key(
+                    "plan",
+                    "a tracking cost needs a position segment".into(),
+                ))
+            })?;
+        Ok(Self { reference, dt })
+    }
+}
+
+impl Cost for Tracking {
+    fn at<B: Backend>(&mut self, t: f64, state: &SimState<'_, B>) -> S<B> {
+        let ([xd, ..], _) = crate::reference::position_f64(&self.reference, t);
+        let e = state.body.x - crate::reference::v::<B>(xd);
+        B::dot(e, e) * S::<B>::lit(self.dt)
+    }
+}
+
+/// The cost of a plain `f64` run of `scene` (nalgebra), summed at every
+/// `every` as [`gradient`] sums it.
+pub fn plain_cost<C: Cost>(
+    registry: &Registry,
+    scene: &Scene,
+    every: f64,
+    cost: &mut C,
+) -> Result<f64, SimError> {
+    registry.check(scene)?;
+    let (vehicle, plan, capacity) = registry.parts::<NalgebraF64>(scene, None, Seeds::NONE)?;
+    let mut total = 0.0;
+    let mut add = |t: f64, s: &SimState<'_, NalgebraF64>| {
+        total += cost.at(t, s);
+        Ok(())
+    };
+    match capacity {
+        6 => fly(
+            builder_from::<_, 6>(scene, vehicle, plan, Seeds::NONE)?.build()?,
+            scene.duration,
+            every,
+            &mut add,
+        ),
+        _ => fly(
+            builder_from::<_, 16>(scene, vehicle, plan, Seeds::NONE)?.build()?,
+            scene.duration,
+            every,
+            &mut add,
+        ),
+    }?;
+    Ok(total)
+}
+
+/// One iteration of [`tune`]: the parameters it started from, their cost
+/// and gradient, and the step taken from them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TuneStep<const K: usize> {
+    /// 0, 1, …: gradient evaluations so far.
+    pub iteration: usize,
+    /// The parameters' values.
+    pub values: [f64; K],
+    /// Their cost.
+    pub cost: f64,
+    /// `∂cost/∂parameter`.
+    pub gradient: [f64; K],
+    /// The accepted step in `ln(parameter)` (0: none found, the search
+    /// stops).
+    pub step: f64,
+    /// Plain runs the line search took.
+    pub plain_runs: usize,
+}
+
+/// What [`tune`] tunes, within which bounds, and for how long.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TuneSpec<'p, const K: usize> {
+    /// The parameters (of [`PARAMETERS`], each with a positive scene
+    /// number: the gains, say).
+    pub params: [&'p str; K],
+    /// `(lo, hi)` per parameter, `0 < lo ≤ value ≤ hi`.
+    pub bounds: [(f64, f64); K],
+    /// The cost's sampling interval, s (as [`gradient`]'s `every`).
+    pub every: f64,
+    /// Gradient evaluations at most.
+    pub max_gradients: usize,
+}
+
+/// Minimises `cost` over the named (positive) parameters of `scene` within
+/// their bounds, by projected gradient descent on their logarithms (a step
+/// changes each by a factor, so gains of different sizes move alike and
+/// stay positive) with a backtracking line search on plain runs (Armijo,
+/// halving; the next search starts from twice the last accepted step), for
+/// at most `spec.max_gradients` gradient evaluations. `report` sees each
+/// iteration. Returns the scene with the best parameters found and the
+/// iterations.
+///
+/// Errors: a bound not `0 < lo ≤ value ≤ hi` or a parameter without a
+/// scene number (`initial.attitude[k]`), naming it; and those of
+/// [`gradient`].
+pub fn tune<const K: usize, C: Cost>(
+    registry: &Registry,
+    scene: &Scene,
+    spec: &TuneSpec<'_, K>,
+    cost: &mut C,
+    mut report: impl FnMut(&TuneStep<K>),
+) -> Result<(Scene, Vec<TuneStep<K>>), SimError> {
+    let TuneSpec {
+        params,
+        bounds,
+        every,
+        max_gradients,
+    } = *spec;
+    let mut best = scene.clone();
+    let mut x = [0.0; K];
+    for (i, name) in params.iter().enumerate() {
+        let v = crate::from_scene::parameter_mut(&mut best, name).map(|p| *p);
+        let (lo, hi) = bounds[i];
+        match v {
+            Some(v) if lo > 0.0 && lo <= v && v <= hi => x[i] = v.ln(),
+            _ => {
+                let got = v.map_or("no scene number".to_string(), |v| format!("{v}"));
+                return Err(SimError::Scene(SceneError::at_key(
+                    name,
+                    format!("tuning needs 0 < lo ≤ value ≤ hi, got {got} in [{lo}, {hi}]"),
+                )));
+            }
+        }
+    }
+    let with = |x: &[f64; K]| {
+        let mut s = scene.clone();
+        for (i, name) in params.iter().enumerate() {
+            if let Some(p) = crate::from_scene::parameter_mut(&mut s, name) {
+                *p = x[i].exp();
+            }
+        }
+        s
+    };
+    let mut history = Vec::new();
+    let mut alpha: Option<f64> = None;
+    for iteration in 0..max_gradients {
+        let g = gradient(registry, &best, params, every, |t, s| cost.at(t, s))?;
+        // The gradient in ln(p): ∂c/∂ln p = p ∂c/∂p.
+        let gl: [f64; K] = core::array::from_fn(|i| g.gradient[i] * x[i].exp());
+        let norm = gl.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        // The first step changes no parameter by more than 20 %.
+        let mut a = alpha.unwrap_or(0.2 / norm.max(f64::MIN_POSITIVE));
+        let mut step = TuneStep {
+            iteration,
+            values: core::array::from_fn(|i| x[i].exp()),
+            cost: g.value,
+            gradient: g.gradient,
+            step: 0.0,
+            plain_runs: 0,
+        };
+        let mut accepted = None;
+        for _ in 0..10 {
+            let trial: [f64; K] = core::array::from_fn(|i| {
+                (x[i] - a * gl[i]).clamp(bounds[i].0.ln(), bounds[i].1.ln())
+            });
+            let moved: f64 = (0..K).map(|i| gl[i] * (x[i] - trial[i])).sum();
+            let c = plain_cost(registry, &with(&trial), every, cost)?;
+            step.plain_runs += 1;
+            if c.is_finite() && c <= g.value - 1e-4 * moved && moved > 0.0 {
+                accepted = Some(trial);
+                break;
+            }
+            a *= 0.5;
+        }
+        let Some(trial) = accepted else {
+            report(&step);
+            history.push(step);
+            break;
+        };
+        step.step = a;
+        report(&step);
+        history.push(step);
+        x = trial;
+        best = with(&x);
+        // Try a longer step next time: the search only ever halves.
+        alpha = Some(2.0 * a);
+    }
+    Ok((best, history))
 }

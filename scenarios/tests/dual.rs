@@ -237,3 +237,41 @@ fn an_unread_parameter_has_an_exact_zero_derivative() {
     assert_eq!(g.gradient[0], 0.0);
     assert!(g.gradient[1] != 0.0);
 }
+
+/// Gradient descent on the gains with the exact gradient: the figure-eight's
+/// tracking cost falls at every iteration and, in 10 gradient evaluations
+/// (and one plain run each for the line search), by 94× (measured; the
+/// scene has no actuator limit, so k_x runs to its bound). 10× is the
+/// bound: a gradient wrong in sign or scale stalls the line search.
+#[test]
+fn tuning_the_gains_lowers_the_tracking_cost() {
+    let reg = Registry::new();
+    let mut scene = builtin::figure_eight();
+    scene.duration = 6.0;
+    let every = 0.01;
+    let mut cost = sensitivity::Tracking::of(&scene, every).unwrap();
+    let params = ["gains.k_x", "gains.k_v", "gains.k_r", "gains.k_omega"];
+    let spec = sensitivity::TuneSpec {
+        params,
+        bounds: [(0.5, 200.0), (0.5, 100.0), (0.05, 50.0), (0.01, 10.0)],
+        every,
+        max_gradients: 10,
+    };
+    let (tuned, history) = sensitivity::tune(&reg, &scene, &spec, &mut cost, |s| {
+        println!(
+            "iteration {}: cost {:.6e}, gains {:?}, step {:.2e}, {} plain runs",
+            s.iteration, s.cost, s.values, s.step, s.plain_runs
+        );
+    })
+    .unwrap();
+    let first = history[0].cost;
+    let last = sensitivity::plain_cost(&reg, &tuned, every, &mut cost).unwrap();
+    println!(
+        "tracking cost {first:.4e} -> {last:.4e} ({:.2}x)",
+        first / last
+    );
+    for w in history.windows(2) {
+        assert!(w[1].cost < w[0].cost, "{} then {}", w[0].cost, w[1].cost);
+    }
+    assert!(last * 10.0 < first, "{first} -> {last}");
+}
