@@ -45,7 +45,7 @@ use crate::scene::{Scene, VehicleKind};
 use crate::sim::{SimState, Simulation};
 use crate::{Registry, SceneError, SimError};
 
-pub use crate::from_scene::PARAMETERS;
+pub use crate::from_scene::{PARAMETERS, parameter_mut};
 
 /// A run's cost and its derivatives.
 #[derive(Clone, Debug, PartialEq)]
