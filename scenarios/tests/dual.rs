@@ -7,52 +7,39 @@
 use lie::{Backend, Dual, NalgebraDual, NalgebraF64, Real, S};
 use scenarios::{Registry, Scene, SimState, builtin, sensitivity};
 
-/// The gains and the initial state (the attitude is seeded in the API
-/// tests below: a scene's rotation is not a number to difference).
-const SEEDS: [&str; 18] = [
-    "gains.k_x",
-    "gains.k_v",
-    "gains.k_i",
-    "gains.c1",
-    "gains.sigma",
-    "gains.k_r",
-    "gains.k_omega",
-    "gains.k_att_i",
-    "gains.c2",
-    "initial.x[0]",
-    "initial.x[1]",
-    "initial.x[2]",
-    "initial.v[0]",
-    "initial.v[1]",
-    "initial.v[2]",
-    "initial.omega[0]",
-    "initial.omega[1]",
-    "initial.omega[2]",
-];
+/// The gains (the first 9 of `PARAMETERS`) and the initial position,
+/// velocity and rate (its entries 16 to 24; the attitude is a direction at
+/// `R₀`, not a scene number to difference).
+fn seeds() -> [&'static str; 18] {
+    let p = sensitivity::PARAMETERS;
+    let names = core::array::from_fn(|i| if i < 9 { p[i] } else { p[i + 7] });
+    assert_eq!(names[9], "initial.x[0]");
+    assert_eq!(names[17], "initial.omega[2]");
+    names
+}
 
-fn set(scene: &mut Scene, name: &str, d: f64) {
-    let (g, i) = (&mut scene.gains, &mut scene.initial);
-    let p = match name {
-        "gains.k_x" => &mut g.k_x,
-        "gains.k_v" => &mut g.k_v,
-        "gains.k_i" => &mut g.k_i,
-        "gains.c1" => &mut g.c1,
-        "gains.sigma" => &mut g.sigma,
-        "gains.k_r" => &mut g.k_r,
-        "gains.k_omega" => &mut g.k_omega,
-        "gains.k_att_i" => &mut g.k_att_i,
-        "gains.c2" => &mut g.c2,
-        _ => {
-            let k = usize::from(name.as_bytes()[name.len() - 2] - b'0');
-            match &name[..name.len() - 3] {
-                "initial.x" => &mut i.x[k],
-                "initial.v" => &mut i.v[k],
-                "initial.omega" => &mut i.omega[k],
-                other => panic!("no parameter {other}"),
-            }
+/// The worst difference between `g` and central differences of plain runs
+/// of `scene` (relative to the gradient's largest component), and the
+/// step it was found at, best of `steps`.
+fn fd_agreement(scene: &Scene, g: &sensitivity::Gradient<18>, steps: &[f64]) -> (f64, f64) {
+    let scale = g.gradient.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    let mut best = (f64::INFINITY, 0.0);
+    for &h in steps {
+        let mut worst = 0.0f64;
+        for (i, name) in g.parameters.iter().enumerate() {
+            let at = |d: f64| {
+                let mut s = scene.clone();
+                *sensitivity::parameter_mut(&mut s, name).unwrap() += d;
+                f64_cost(&s)
+            };
+            let fd = (at(h) - at(-h)) / (2.0 * h);
+            worst = worst.max((g.gradient[i] - fd).abs() / scale);
         }
-    };
-    *p += d;
+        if worst < best.0 {
+            best = (worst, h);
+        }
+    }
+    best
 }
 
 /// A fixed linear functional of the final state: every component's
@@ -88,29 +75,14 @@ fn paper_flip_gradient_equals_central_differences() {
     for kind in ["rk4", "rkmk4", "lgvi"] {
         let mut scene = builtin::paper_flip();
         scene.integrator.kind = kind.into();
-        let g = sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| cost(s)).unwrap();
+        let g =
+            sensitivity::gradient(&reg, &scene, seeds(), scene.duration, |_, s| cost(s)).unwrap();
         assert_eq!(
             g.value.to_bits(),
             f64_cost(&scene).to_bits(),
             "{kind}: value"
         );
-        let scale = g.gradient.iter().fold(0.0f64, |m, d| m.max(d.abs()));
-        let mut best = (f64::INFINITY, 0.0);
-        for h in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
-            let mut worst = 0.0f64;
-            for (i, name) in SEEDS.iter().enumerate() {
-                let at = |d: f64| {
-                    let mut s = scene.clone();
-                    set(&mut s, name, d);
-                    f64_cost(&s)
-                };
-                let fd = (at(h) - at(-h)) / (2.0 * h);
-                worst = worst.max((g.gradient[i] - fd).abs() / scale);
-            }
-            if worst < best.0 {
-                best = (worst, h);
-            }
-        }
+        let best = fd_agreement(&scene, &g, &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]);
         println!(
             "{kind}: gradient vs central differences {:.1e} (best step {:.0e})",
             best.0, best.1
@@ -131,7 +103,7 @@ fn psi_switch_gradient_equals_central_differences() {
     scene.integrator.kind = "rk4".into();
     scene.integrator.dt = 1e-3;
     scene.duration = 3.0;
-    let g = sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| cost(s)).unwrap();
+    let g = sensitivity::gradient(&reg, &scene, seeds(), scene.duration, |_, s| cost(s)).unwrap();
     assert_eq!(g.value.to_bits(), f64_cost(&scene).to_bits(), "value");
     let mut sim = reg
         .builder::<NalgebraF64, 6>(&scene)
@@ -141,23 +113,7 @@ fn psi_switch_gradient_equals_central_differences() {
     sim.advance_to(scene.duration).unwrap();
     let switches = sim.finish().unwrap().switches;
     assert!(switches.len() == 1 && switches[0].t > 0.3, "{switches:?}");
-    let scale = g.gradient.iter().fold(0.0f64, |m, d| m.max(d.abs()));
-    let mut best = (f64::INFINITY, 0.0);
-    for h in [1e-4, 1e-5, 1e-6] {
-        let mut worst = 0.0f64;
-        for (i, name) in SEEDS.iter().enumerate() {
-            let at = |d: f64| {
-                let mut s = scene.clone();
-                set(&mut s, name, d);
-                f64_cost(&s)
-            };
-            let fd = (at(h) - at(-h)) / (2.0 * h);
-            worst = worst.max((g.gradient[i] - fd).abs() / scale);
-        }
-        if worst < best.0 {
-            best = (worst, h);
-        }
-    }
+    let best = fd_agreement(&scene, &g, &[1e-4, 1e-5, 1e-6]);
     println!(
         "Ψ switch at {:.3} s, rk4: gradient vs central differences {:.1e} (best step {:.0e})",
         switches[0].t, best.0, best.1
@@ -178,7 +134,7 @@ fn paper_flip_real_part_is_the_f64_run_on_every_stepper() {
             .unwrap();
         a.advance_to(scene.duration).unwrap();
         let mut last = None;
-        sensitivity::gradient(&reg, &scene, SEEDS, scene.duration, |_, s| {
+        sensitivity::gradient(&reg, &scene, seeds(), scene.duration, |_, s| {
             last = Some((*s.body, s.integrals.to_vec(), s.segment));
             Dual::constant(0.0)
         })
