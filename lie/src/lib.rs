@@ -81,6 +81,11 @@
 //! trait run on lanes ([`So3Group`] is the part of [`Rotation`] they need);
 //! [`lanes`] moves values in and out. The scalar backends are unchanged by
 //! this: every [`Backend`] is a [`SimdBackend`] with one lane.
+//!
+//! `dual` adds `Dual<N>`, a forward-mode dual number (a value and `N`
+//! derivatives), and `NalgebraDual<N>`, the nalgebra backend on it: every
+//! formula written over a backend returns exact derivatives, and the real
+//! part is the `f64` result bit for bit (see `Dual`).
 
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
