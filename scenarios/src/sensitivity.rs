@@ -169,30 +169,33 @@ fn named<const K: usize>(seeds: &[&str; K], x: &Dual<K>, t: f64, component: Stri
 }
 
 /// The first state component whose value is finite and a derivative not.
+/// The components are named only once one is found: this runs at every
+/// sampled instant of a gradient run.
 fn non_finite_derivative<const K: usize>(
     s: &SimState<'_, NalgebraDual<K>>,
     seeds: &[&str; K],
 ) -> Option<SimError> {
     let b = s.body;
-    let mut parts: Vec<(String, S<NalgebraDual<K>>)> = Vec::new();
-    for (name, v) in [("x", b.x), ("v", b.v), ("omega", b.omega)] {
-        parts.extend((0..3).map(|k| (format!("{name}[{k}]"), v[k])));
+    let bad = |x: &Dual<K>| x.re.is_finite() && !x.simd_is_finite();
+    let name = |part: &str, x: &Dual<K>, at: String| named(seeds, x, s.t, format!("{part}{at}"));
+    for (part, v) in [("x", b.x), ("v", b.v), ("omega", b.omega)] {
+        if let Some(k) = v.iter().position(bad) {
+            return Some(name(part, &v[k], format!("[{k}]")));
+        }
     }
-    for r in 0..3 {
-        parts.extend((0..3).map(|c| (format!("R[{r}][{c}]"), b.r[(r, c)])));
+    if let Some(i) = b.r.iter().position(bad) {
+        // nalgebra's storage is column-major.
+        return Some(name("R", &b.r[i], format!("[{}][{}]", i % 3, i / 3)));
     }
-    parts.extend(
-        s.integrals
-            .iter()
-            .enumerate()
-            .map(|(i, x)| (format!("integrals[{i}]"), *x)),
-    );
-    let states = s.vehicle_states.iter().enumerate();
-    parts.extend(states.map(|(i, x)| (format!("vehicle_states[{i}]"), *x)));
-    parts
-        .into_iter()
-        .find(|(_, x)| x.re.is_finite() && !x.simd_is_finite())
-        .map(|(name, x)| named(seeds, &x, s.t, name))
+    for (part, xs) in [
+        ("integrals", s.integrals),
+        ("vehicle_states", s.vehicle_states),
+    ] {
+        if let Some(i) = xs.iter().position(bad) {
+            return Some(name(part, &xs[i], format!("[{i}]")));
+        }
+    }
+    None
 }
 
 /// Every seed a parameter, named once, and read by the scene's vehicle.

@@ -122,7 +122,7 @@ pub(crate) struct Split<B: Backend> {
 /// rate, was 1e-7 in the state), and lands the slot on ±level. The active
 /// mode integrates up to the crossing on the branch it was on and is left
 /// forced onto the far branch. `phase` carries the derivatives of the
-/// step's start time (a dual run; see [`crossing_derivatives`]).
+/// step's start time (a dual run; see [`event_derivatives`]).
 pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     stepper: &mut I,
@@ -171,7 +171,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
             yy.extra[slot] - target
         };
         next_phase = event_derivatives(sys, stepper, residual, (t, tc, h, before, phase), y)?;
-        steps += 4;
+        steps += EVENT_REDOS;
     }
     // Land the slot on ±level exactly and integrate the next step on the
     // far side's branch (stages a rounding error from the boundary would
@@ -193,6 +193,10 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
 /// a switch); negative on one side.
 pub(crate) type Residual<'r, 's, 'a, B, const N: usize> =
     dyn FnMut(&mut ClosedLoop<'s, 'a, B, N>, f64, &State<B, N>) -> S<B> + 'r;
+
+/// The sub-steps [`event_derivatives`] redoes (held end, two for the
+/// rate, moving end), counted in the run's steps.
+pub(crate) const EVENT_REDOS: u64 = 4;
 
 /// A dual run's derivatives at an event located at `tc` inside the step
 /// `(t, h)` from `before` (`phase`: the derivatives of `t`); `y` holds the
