@@ -92,6 +92,21 @@ pub struct WorkPoint {
     pub error: f64,
 }
 
+impl WorkPoint {
+    /// The columns of [`WorkPoint::csv_row`], comma-separated.
+    pub const CSV_COLUMNS: &'static str = "integrator,param,steps,evaluations,wall_s,error";
+
+    /// The point as one CSV row (no newline), in the order of
+    /// [`WorkPoint::CSV_COLUMNS`]; numbers in the shortest form that reads
+    /// back the same value.
+    pub fn csv_row(&self) -> String {
+        format!(
+            "{},{},{},{},{},{}",
+            self.kind, self.param, self.steps, self.evals, self.wall, self.error
+        )
+    }
+}
+
 /// A work-precision sweep: the points, and the settings that failed
 /// (a step size too coarse for a stepper, say) with why.
 #[derive(Clone, Debug)]

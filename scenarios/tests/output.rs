@@ -332,7 +332,7 @@ fn warnings_are_a_metadata_record_in_the_mcap() {
 /// samples afterwards; and the same MCAP messages.
 #[test]
 fn streamed_outputs_equal_the_written_ones() {
-    use scenarios::output::{CsvWriter, McapWriter, Sink, Tee};
+    use scenarios::output::{CsvWriter, McapWriter, Sink, Tee, Watched};
     let scene = builtin::paper_flip();
     let kept = run(&scene, RunOptions::default()).unwrap();
     let dir = tmpdir("stream");
@@ -341,7 +341,7 @@ fn streamed_outputs_equal_the_written_ones() {
 
     let mut csv = CsvWriter::create(&dir.join("streamed.csv")).unwrap();
     let mut mcap = McapWriter::create(&dir.join("streamed.mcap")).unwrap();
-    let mut tee = Tee(vec![&mut csv as &mut dyn Sink, &mut mcap]);
+    let mut tee = Watched::new(Tee(vec![&mut csv as &mut dyn Sink, &mut mcap]));
     let streamed = run(
         &scene,
         RunOptions {
@@ -351,6 +351,7 @@ fn streamed_outputs_equal_the_written_ones() {
         },
     )
     .unwrap();
+    assert_eq!(tee.last_t, Some(kept.samples.last().unwrap().t));
     drop(tee);
     assert!(streamed.samples.is_empty(), "nothing kept in memory");
     assert_eq!(csv.finish().unwrap(), kept.samples.len() as u64);
@@ -408,4 +409,32 @@ fn cancel_stops_at_the_current_step() {
     assert_eq!(out.samples.last().unwrap().t, t);
     assert_eq!(out.last.t, t);
     assert!(out.samples.windows(2).all(|w| w[0].t < w[1].t));
+}
+
+/// A work-precision point's CSV row has a field per column and reads back
+/// to the point exactly.
+#[test]
+fn a_work_point_row_reads_back() {
+    use scenarios::metrics::WorkPoint;
+    let p = WorkPoint {
+        kind: "rkmk4".into(),
+        param: 2.5e-3,
+        steps: 4001,
+        evals: 16004,
+        wall: 0.1 + 0.2,
+        error: 1.0 / 3.0 * 1e-9,
+    };
+    let cols: Vec<&str> = WorkPoint::CSV_COLUMNS.split(',').collect();
+    let row = p.csv_row();
+    let f: Vec<&str> = row.split(',').collect();
+    assert_eq!(f.len(), cols.len(), "{row}");
+    let back = WorkPoint {
+        kind: f[0].into(),
+        param: f[1].parse().unwrap(),
+        steps: f[2].parse().unwrap(),
+        evals: f[3].parse().unwrap(),
+        wall: f[4].parse().unwrap(),
+        error: f[5].parse().unwrap(),
+    };
+    assert_eq!(back, p);
 }

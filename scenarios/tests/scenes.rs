@@ -475,3 +475,28 @@ fn the_scene_format_is_checked_and_written() {
         assert_eq!(Scene::from_toml(&s.to_toml(), "rt.toml").unwrap(), s);
     }
 }
+
+/// A scene whose step count is beyond a limit is refused before anything
+/// runs, naming the key, the count and the time it would take; every
+/// built-in is within the command line's limit of 10⁹ steps.
+#[test]
+fn a_runaway_step_count_is_refused_naming_duration() {
+    for s in builtin::all() {
+        assert!(s.check_size(1e9).is_ok(), "{}", s.name);
+    }
+    let mut s = builtin::paper_flip();
+    s.duration = 1e12;
+    let e = s.check_size(1e9).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("duration"));
+    assert!(
+        e.message
+            .contains(&format!("{:.2e} steps", 1e12 / s.integrator.dt))
+            && e.message.contains("years"),
+        "{e}"
+    );
+    s.duration = 3600.0;
+    s.integrator.dt = 1e-7;
+    let e = s.check_size(1e9).unwrap_err();
+    assert!(e.message.contains("hours"), "{e}");
+    assert!(s.check_size(1e11).is_ok());
+}

@@ -382,14 +382,10 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         }
     }
     b.finish_and_clear();
-    let mut csv =
-        String::from("scene,backend,scalar,integrator,param,steps,evaluations,wall_s,error\n");
+    let mut csv = format!("scene,backend,scalar,{}\n", Point::CSV_COLUMNS);
     for (scene, pair, p) in &wp {
         let (backend, scalar) = pair.split_once('-').unwrap_or((pair, ""));
-        csv += &format!(
-            "{scene},{backend},{scalar},{},{},{},{},{},{}\n",
-            p.kind, p.param, p.steps, p.evals, p.wall, p.error
-        );
+        csv += &format!("{scene},{backend},{scalar},{}\n", p.csv_row());
     }
     let wp_csv = out_dir.join("work_precision.csv");
     std::fs::write(&wp_csv, csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;

@@ -11,10 +11,24 @@ use std::path::{Path, PathBuf};
 use scenarios::Scene;
 use scenarios::montecarlo::{Initial, Outcome, Report, SAMPLES_HEADER, Setup};
 
-mod files;
+use scenarios::montecarlo::shards::{
+    self, Shard, write_atomic, write_run, write_samples, write_shard,
+};
 
-pub use files::merge;
-use files::{default_out, parse_shard, write_atomic, write_run_json, write_samples, write_shard};
+fn default_out(experiment: &str) -> PathBuf {
+    crate::workspace_root()
+        .join("target/montecarlo")
+        .join(experiment)
+}
+
+/// `cargo xtask montecarlo merge DIR...`: the shards' rows as one run's
+/// files.
+pub fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), String> {
+    let (setup, rows) = shards::merge(dirs).map_err(|e| e.to_string())?;
+    let dir = out.map_or_else(|| default_out(&setup.experiment), Path::to_path_buf);
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    finish(&dir, &setup, &rows, None)
+}
 
 /// Which experiment.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -54,7 +68,7 @@ pub struct McArgs {
     pub threads: Option<usize>,
     /// Run only the samples i with i mod N = K, as `K/N`.
     #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
+    pub shard: Option<Shard>,
     /// Output directory (default `target/montecarlo/<experiment>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -254,10 +268,10 @@ pub fn summary(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Report {
 /// Writes samples.csv, summary.json, the figures and the worst sample's
 /// scene into `dir`, and prints the summary.
 fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Result<(), String> {
-    write_samples(dir, rows)?;
+    write_samples(dir, rows).map_err(|e| e.to_string())?;
     let report = summary(setup, rows, wall);
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-    write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    write_atomic(&dir.join("summary.json"), text.as_bytes()).map_err(|e| e.to_string())?;
     scenarios::figures::montecarlo(dir, rows).map_err(|e| e.to_string())?;
     print!("{report}");
     // The replay is the slowest *converged* sample: a diverging one would
@@ -273,7 +287,7 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
         sc.duration = (r.t_converge + setup.hold + 2.0).min(setup.deadline);
         sc.name = format!("montecarlo-{}-slowest-{}", setup.experiment, r.index);
         let path = dir.join("worst.toml");
-        write_atomic(&path, sc.to_toml().as_bytes())?;
+        write_atomic(&path, sc.to_toml().as_bytes()).map_err(|e| e.to_string())?;
         println!(
             "slowest converged sample (#{}, {:.3} s) as a scene: cargo xtask run {} --mcap worst.mcap",
             r.index,
@@ -323,20 +337,16 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         let mut sc = scene(&setup, &setup.initial(i));
         sc.name = format!("montecarlo-{}-{i}", setup.experiment);
         let path = dir.join(format!("sample-{i}.toml"));
-        write_atomic(&path, sc.to_toml().as_bytes())?;
+        write_atomic(&path, sc.to_toml().as_bytes()).map_err(|e| e.to_string())?;
         println!(
             "its scene: cargo xtask run {} --mcap sample-{i}.mcap",
             path.display()
         );
         return Ok(());
     }
-    let (k, n) = a
-        .shard
-        .as_deref()
-        .map(parse_shard)
-        .transpose()?
-        .unwrap_or((0, 1));
-    let indices: Vec<u64> = (k..setup.samples).step_by(n as usize).collect();
+    let shard = a.shard.unwrap_or(Shard::WHOLE);
+    let (k, n) = (shard.k, shard.n);
+    let indices = shard.indices(setup.samples);
     let threads = a
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -367,7 +377,7 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
     if n > 1 {
-        write_shard(&dir, &setup, (k, n), &rows)?;
+        write_shard(&dir, &setup, shard, &rows).map_err(|e| e.to_string())?;
         println!(
             "shard {k}/{n}: {} samples in {wall:.2} s → {}/samples.csv (merge with `cargo xtask montecarlo merge DIR...`)",
             rows.len(),
@@ -375,7 +385,7 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         );
         return Ok(());
     }
-    write_run_json(&dir, &setup, (k, n))?;
+    write_run(&dir, &setup, shard).map_err(|e| e.to_string())?;
     finish(&dir, &setup, &rows, Some(wall))
 }
 
@@ -389,19 +399,13 @@ pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
     );
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let report = scenarios::montecarlo::near_pi().map_err(|e| e.to_string())?;
-    let mut csv = String::from("axis,delta,t_converge\n");
-    for a in &report {
-        for (delta, t) in &a.times {
-            if t.is_nan() {
-                return Err(format!(
-                    "near-pi {} δ = {delta:e}: Ψ never dropped below 1e-3 in 60 s",
-                    a.axis
-                ));
-            }
-            let _ = writeln!(csv, "{},{delta:e},{t}", a.axis);
-        }
+    if let Some((a, d)) = report.iter().find_map(|a| Some((a.axis, a.unsettled()?))) {
+        return Err(format!(
+            "near-pi {a} δ = {d:e}: Ψ never dropped below 1e-3 in 60 s"
+        ));
     }
-    write_atomic(&dir.join("near-pi.csv"), csv.as_bytes())?;
+    let csv = scenarios::montecarlo::near_pi_csv(&report);
+    write_atomic(&dir.join("near-pi.csv"), csv.as_bytes()).map_err(|e| e.to_string())?;
     println!(
         "time to Ψ < 1e-3 from R(0) = exp((π − δ) â), attitude mode, paper gains, no disturbance:"
     );
@@ -423,53 +427,11 @@ pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    /// Two shards merged give the single run's samples.csv byte for byte;
-    /// a missing shard is an error naming the gap.
     /// The library's `Setup::default` (what the Python package and a Rust
     /// study start from) is the command line's defaults.
     #[test]
     fn library_defaults_are_the_command_lines() {
         assert_eq!(setup_from_args(&default_args()), Setup::default());
-    }
-
-    #[test]
-    fn shards_merged_equal_one_run() {
-        let mut setup = setup_from_args(&default_args());
-        setup.samples = 6;
-        setup.deadline = 2.0;
-        let base = std::env::temp_dir().join(format!("gpid-mc-{}", std::process::id()));
-        let d = |n: &str| {
-            let p = base.join(n);
-            std::fs::create_dir_all(&p).unwrap();
-            p
-        };
-        let all: Vec<u64> = (0..6).collect();
-        let one = run_indices(&setup, &all, 1, None, false).unwrap();
-        write_samples(&d("single"), &one).unwrap();
-        let mut dirs = Vec::new();
-        for k in 0..2u64 {
-            let idx: Vec<u64> = (k..6).step_by(2).collect();
-            let rows = run_indices(&setup, &idx, 2, None, false).unwrap();
-            let dir = d(&format!("shard{k}"));
-            write_shard(&dir, &setup, (k, 2), &rows).unwrap();
-            dirs.push(dir);
-        }
-        merge(&dirs, Some(&d("merged"))).unwrap();
-        assert_eq!(
-            std::fs::read(base.join("merged/samples.csv")).unwrap(),
-            std::fs::read(base.join("single/samples.csv")).unwrap()
-        );
-        let e = merge(&dirs[..1], Some(&d("bad"))).unwrap_err();
-        assert!(e.contains("missing"), "{e}");
-        std::fs::remove_dir_all(&base).ok();
-    }
-
-    #[test]
-    fn shards_parse() {
-        assert_eq!(parse_shard("1/4"), Ok((1, 4)));
-        assert!(parse_shard("4/4").is_err());
-        assert!(parse_shard("0/0").is_err());
-        assert!(parse_shard("x").is_err());
     }
 
     /// The flags reproduce the setup: only what differs from the defaults.

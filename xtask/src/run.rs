@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use scenarios::scene::{BackendKind, Scalar};
-use scenarios::{RunOptions, RunOutput, Sample, Scene, SimError, SwitchRecord, builtin, output};
+use scenarios::{RunOptions, RunOutput, Scene, SimError, builtin, output};
 
 mod report;
 mod signals;
@@ -76,12 +76,6 @@ pub struct RunArgs {
     pub strict: bool,
 }
 
-/// Steps a run takes (fixed steps; dopri's calls), for the guard against
-/// runs that would not end in a reasonable time.
-pub fn estimated_steps(scene: &Scene) -> f64 {
-    scene.duration / scene.integrator.dt
-}
-
 /// Applies the command-line overrides to a scene and validates it.
 pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, String> {
     let overrides = scenarios::Overrides {
@@ -112,7 +106,7 @@ pub fn run_scene_with(
     sink: Option<&mut dyn output::Sink>,
     cancel: Option<&AtomicBool>,
 ) -> Result<RunOutput, SimError> {
-    let est_steps = scene.duration / scene.integrator.dt;
+    let est_steps = scene.estimated_steps();
     let bar = (est_steps > 2e5).then(|| {
         let b = indicatif::ProgressBar::new(1000);
         b.set_style(
@@ -167,47 +161,6 @@ pub fn run_scene_with(
         eprintln!("warning: {}: {w}", scene.name);
     }
     Ok(out)
-}
-
-/// Remembers the time of the last sample handed on, so that a run ended
-/// by an error can say up to where its files hold.
-struct LastTime<'a> {
-    inner: output::Tee<'a>,
-    t: Option<f64>,
-}
-
-impl output::Sink for LastTime<'_> {
-    fn begin(&mut self, names: &[&'static str]) -> Result<(), output::OutputError> {
-        self.inner.begin(names)
-    }
-    fn switch(&mut self, sw: &SwitchRecord, mode: &str) -> Result<(), output::OutputError> {
-        self.inner.switch(sw, mode)
-    }
-    fn sample(&mut self, s: &Sample) -> Result<(), output::OutputError> {
-        self.t = Some(s.t);
-        self.inner.sample(s)
-    }
-}
-
-/// Refuses a run of more than 10⁹ steps, saying how long it would take.
-fn refuse_huge(scene: &Scene) -> Result<(), String> {
-    let steps = estimated_steps(scene);
-    if steps <= 1e9 {
-        return Ok(());
-    }
-    // About 1 µs a closed-loop step here (cargo xtask bench).
-    let secs = steps * 1e-6;
-    let took = if secs < 86_400.0 {
-        format!("{:.1} hours", secs / 3600.0)
-    } else if secs < 3.2e7 {
-        format!("{:.0} days", secs / 86_400.0)
-    } else {
-        format!("{:.1e} years", secs / 3.156e7)
-    };
-    Err(format!(
-        "{}: {steps:.2e} steps ({} s at dt = {} s), about {took} at 1 µs a step; pass --yes to run it anyway",
-        scene.name, scene.duration, scene.integrator.dt
-    ))
 }
 
 /// How a run ended, for its outputs and its exit status: the warnings
@@ -285,7 +238,9 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
     }
     check_paths(&a, name)?;
     if !a.yes {
-        refuse_huge(&scene)?;
+        scene
+            .check_size(1e9)
+            .map_err(|e| format!("{e}; pass --yes to run it anyway"))?;
     }
     let (cancel, by_int, by_term) = install_signal_flags()?;
     // The files are created now (as `.partial`) and written as the run
@@ -310,17 +265,14 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         sinks.push(w);
     }
     let streaming = !sinks.is_empty();
-    let mut sink = LastTime {
-        inner: output::Tee(sinks),
-        t: None,
-    };
+    let mut sink = output::Watched::new(output::Tee(sinks));
     let result = run_scene_with(
         &scene,
         a.plot.is_some(),
         streaming.then_some(&mut sink as &mut dyn output::Sink),
         Some(&cancel),
     );
-    let last_t = sink.t;
+    let last_t = sink.last_t;
     drop(sink);
     // Close the files whatever happened: an error mid-run leaves
     // everything logged before it intact, with a `stopped` record saying
@@ -410,16 +362,4 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         }
     }
     Ok(status)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn absurd_step_counts_are_refused_without_yes() {
-        let mut s = scenarios::builtin::paper_flip();
-        s.duration = 1e12;
-        assert!(estimated_steps(&s) > 1e9);
-    }
 }

@@ -60,12 +60,10 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
     let dir = PathBuf::from("target/sweep");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let csv = dir.join(format!("{}.csv", base.name));
-    let mut text = String::from("stepper,param,steps,evaluations,wall_s,error\n");
+    let mut text = format!("{}\n", Point::CSV_COLUMNS);
     for p in &pts {
-        text += &format!(
-            "{},{},{},{},{},{}\n",
-            p.kind, p.param, p.steps, p.evals, p.wall, p.error
-        );
+        text += &p.csv_row();
+        text.push('\n');
     }
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let svg = dir.join(format!("{}.svg", base.name));

@@ -51,7 +51,7 @@ pub const DIVERGED_X: f64 = 100.0;
 pub const MAX_SUBSTEPS: u32 = 20_000;
 
 /// Everything that defines a sample's result besides its index (what a
-/// shard's `run.json` records so that shards of different runs are not
+/// shard's `run.toml` records so that shards of different runs are not
 /// merged).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Setup {

@@ -68,6 +68,7 @@ mod experiments;
 mod lanes;
 mod near_pi;
 mod report;
+pub mod shards;
 
 pub use experiments::{
     DIVERGED_OMEGA, DIVERGED_X, Experiment, Initial, MAX_SUBSTEPS, Outcome, SAMPLES_HEADER, Setup,
@@ -75,7 +76,7 @@ pub use experiments::{
 };
 #[cfg(feature = "simd")]
 pub use lanes::LaneUse;
-pub use near_pi::{NearPiAxis, near_pi};
+pub use near_pi::{NearPiAxis, near_pi, near_pi_csv};
 pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
 pub use report::{Cost, Report, SlowSample};

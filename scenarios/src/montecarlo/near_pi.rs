@@ -46,6 +46,26 @@ impl NearPiAxis {
     }
 }
 
+impl NearPiAxis {
+    /// The first δ whose run never reached Ψ < 10⁻³ in its 60 s, if any.
+    pub fn unsettled(&self) -> Option<f64> {
+        self.times.iter().find(|p| p.1.is_nan()).map(|p| p.0)
+    }
+}
+
+/// The escape times as CSV, `axis,delta,t_converge`, one row per axis and
+/// δ (δ in exponent form, the time in the shortest form that reads back
+/// the same).
+pub fn near_pi_csv(report: &[NearPiAxis]) -> String {
+    let mut csv = String::from("axis,delta,t_converge\n");
+    for a in report {
+        for (delta, t) in &a.times {
+            csv.push_str(&format!("{},{delta:e},{t}\n", a.axis));
+        }
+    }
+    csv
+}
+
 impl std::fmt::Display for NearPiAxis {
     /// Two lines: the times to converge, then the slope against 1/λ₊.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

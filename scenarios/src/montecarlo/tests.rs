@@ -407,3 +407,106 @@ fn uniform_and_in_ball_follow_their_laws() {
         assert!(m.abs() < 4.0 * se, "mean of component {k}: {m}");
     }
 }
+
+/// Two shards merged give one run's rows and `samples.csv` byte for byte;
+/// a missing shard, a duplicated one and a shard of another run are errors
+/// naming what they found.
+#[test]
+fn shards_merged_equal_one_run() {
+    use shards::{Shard, ShardError, merge, write_samples, write_shard};
+    let mut s = setup();
+    s.samples = 6;
+    s.deadline = 2.0;
+    let base = std::env::temp_dir().join(format!("gpid-shards-{}", std::process::id()));
+    let dir = |n: &str| {
+        let p = base.join(n);
+        std::fs::create_dir_all(&p).unwrap();
+        p
+    };
+    let one = s.run(&Shard::WHOLE.indices(6), Some(1), None).unwrap();
+    write_samples(&dir("single"), &one).unwrap();
+    let mut dirs = Vec::new();
+    for k in 0..2 {
+        let shard = Shard { k, n: 2 };
+        let rows = s.run(&shard.indices(6), Some(2), None).unwrap();
+        let d = dir(&format!("shard{k}"));
+        write_shard(&d, &s, shard, &rows).unwrap();
+        dirs.push(d);
+    }
+    let (merged_setup, merged) = merge(&dirs).unwrap();
+    assert_eq!(merged_setup, s);
+    write_samples(&dir("merged"), &merged).unwrap();
+    assert_eq!(
+        std::fs::read(base.join("merged/samples.csv")).unwrap(),
+        std::fs::read(base.join("single/samples.csv")).unwrap()
+    );
+    let missing = merge(&dirs[..1]).unwrap_err();
+    assert!(
+        matches!(
+            missing,
+            ShardError::Gap {
+                index: 1,
+                duplicated: false,
+                ..
+            }
+        ),
+        "{missing}"
+    );
+    let twice = merge(&[dirs[0].clone(), dirs[0].clone(), dirs[1].clone()]).unwrap_err();
+    assert!(
+        matches!(
+            twice,
+            ShardError::Gap {
+                index: 0,
+                duplicated: true,
+                ..
+            }
+        ),
+        "{twice}"
+    );
+    let mut other = s.clone();
+    other.seed += 1;
+    write_shard(&dirs[1], &other, Shard { k: 1, n: 2 }, &one[1..]).unwrap();
+    let e = merge(&dirs).unwrap_err();
+    assert!(matches!(e, ShardError::DifferentRun { .. }), "{e}");
+    assert!(matches!(merge(&[]), Err(ShardError::Empty)));
+    std::fs::remove_dir_all(&base).ok();
+}
+
+#[test]
+fn shards_parse() {
+    use shards::{Shard, ShardError};
+    assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { k: 1, n: 4 });
+    assert_eq!(Shard { k: 1, n: 4 }.indices(10), [1, 5, 9]);
+    for bad in ["4/4", "0/0", "x", "1/", "-1/2"] {
+        let e = bad.parse::<Shard>().unwrap_err();
+        assert!(matches!(&e, ShardError::Spec(s) if s == bad), "{e}");
+    }
+}
+
+/// The near-π CSV has one row per axis and δ, each number reading back as
+/// the value; a run that never settled is named by its δ.
+#[test]
+fn near_pi_csv_rows_read_back() {
+    let mut a = NearPiAxis {
+        axis: "e1",
+        j: 0.0820,
+        lambda: 0.5,
+        times: vec![(1e-1, 3.25), (1e-2, 1.0 / 3.0)],
+        slope: 2.0,
+    };
+    assert_eq!(a.unsettled(), None);
+    assert_eq!(a.slope_error(), 0.0);
+    let csv = near_pi_csv(std::slice::from_ref(&a));
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0], ["axis", "delta", "t_converge"]);
+    assert_eq!(rows.len(), 3);
+    for (row, (d, t)) in rows[1..].iter().zip(&a.times) {
+        assert_eq!(row[0], "e1");
+        assert_eq!(row[1].parse::<f64>().unwrap(), *d);
+        assert_eq!(row[2].parse::<f64>().unwrap(), *t);
+    }
+    a.times.push((1e-3, f64::NAN));
+    a.times.push((1e-4, f64::NAN));
+    assert_eq!(a.unsettled(), Some(1e-3));
+}

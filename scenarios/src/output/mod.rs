@@ -23,7 +23,7 @@
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
-pub use crate::sim::{OutputError, Sink, Tee};
+pub use crate::sim::{OutputError, Sink, Tee, Watched};
 
 mod csv;
 mod mcap_file;

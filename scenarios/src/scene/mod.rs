@@ -646,6 +646,39 @@ impl Scene {
         Ok(scene)
     }
 
+    /// Steps a run of this scene takes: its fixed steps, or Dormand–Prince's
+    /// calls (its longest step is `dt`).
+    pub fn estimated_steps(&self) -> f64 {
+        self.duration / self.integrator.dt
+    }
+
+    /// Refuses a scene of more than `max_steps` steps, saying how long it
+    /// would take at about 1 µs a closed-loop step (the order of one
+    /// RK4 step here): a mistyped `duration` or `dt` otherwise starts a run
+    /// that never ends. The error's key is `duration`.
+    pub fn check_size(&self, max_steps: f64) -> Result<(), SceneError> {
+        let steps = self.estimated_steps();
+        if steps <= max_steps {
+            return Ok(());
+        }
+        let secs = steps * 1e-6;
+        let took = if secs < 86_400.0 {
+            format!("{:.1} hours", secs / 3600.0)
+        } else if secs < 3.2e7 {
+            format!("{:.0} days", secs / 86_400.0)
+        } else {
+            format!("{:.1e} years", secs / 3.156e7)
+        };
+        Err(SceneError {
+            message: format!(
+                "{}: {steps:.2e} steps (duration = {} s at dt = {} s), more than {max_steps:.0e}: about {took} at 1 µs a step",
+                self.name, self.duration, self.integrator.dt
+            ),
+            location: None,
+            key: Some("duration".into()),
+        })
+    }
+
     /// Serialises to TOML (the inverse of [`Scene::from_toml`]).
     ///
     /// Infallible: every field is a number, string, bool, array or a map

@@ -42,7 +42,7 @@ pub use error::{SceneError, SimError};
 pub use output_types::{
     Divergence, DivergenceGuard, Health, RunOutput, Sample, SwitchRecord, Termination,
 };
-pub use sink::{OutputError, Sink, Tee};
+pub use sink::{OutputError, Sink, Tee, Watched};
 
 use std::sync::atomic::AtomicBool;
 

@@ -82,3 +82,36 @@ impl Sink for Tee<'_> {
         self.0.iter_mut().try_for_each(|s| s.sample(smp))
     }
 }
+
+/// A sink handing everything on to `inner` and remembering the time of the
+/// last sample it handed on: a run that ends in an error can then say up to
+/// where its files hold.
+pub struct Watched<S> {
+    /// The sink fed.
+    pub inner: S,
+    /// The time of the last sample, s (`None` before the first).
+    pub last_t: Option<f64>,
+}
+
+impl<S> Watched<S> {
+    /// Watches `inner`.
+    pub fn new(inner: S) -> Self {
+        Watched {
+            inner,
+            last_t: None,
+        }
+    }
+}
+
+impl<S: Sink> Sink for Watched<S> {
+    fn begin(&mut self, mode_names: &[&'static str]) -> Result<(), OutputError> {
+        self.inner.begin(mode_names)
+    }
+    fn switch(&mut self, sw: &SwitchRecord, mode: &str) -> Result<(), OutputError> {
+        self.inner.switch(sw, mode)
+    }
+    fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
+        self.last_t = Some(s.t);
+        self.inner.sample(s)
+    }
+}
