@@ -36,11 +36,13 @@ __all__ = [
     "Simulation",
     "SimulationError",
     "attitude_control",
+    "gradient",
     "load_scene",
     "montecarlo",
     "position_control",
     "run",
     "scene_names",
+    "tune",
 ]
 
 __version__ = _geopid.__version__
@@ -403,3 +405,51 @@ def montecarlo(
             f.write(cols["csv"])
         os.replace(tmp, path)
     return rows
+
+
+def gradient(
+    scene: SceneLike,
+    params: Sequence[str],
+    *,
+    every: Optional[float] = None,
+) -> "tuple[float, np.ndarray]":
+    """The tracking cost ``sum ||x(t_k) - x_d(t_k)||^2 dt`` of a scene's
+    first position segment, sampled every ``every`` seconds (default: the
+    scene's record interval), and its exact gradient with respect to
+    ``params``: 1 to 4 parameter names such as ``"gains.k_x"``,
+    ``"vehicle.mass"`` or ``"initial.x[2]"``.
+
+    The derivatives are those of the flight as flown (every step, event
+    and mode switch of the same run), computed by forward-mode dual
+    numbers through the whole simulation, not by finite differences.
+    Returns ``(cost, gradient)``. A name that is not a parameter raises
+    ``SceneError`` naming it; a derivative that turns non-finite raises
+    ``SimulationError`` with ``t``.
+    """
+    value, g = _geopid.gradient(load_scene(scene), [str(p) for p in params], every)
+    return value, g
+
+
+def tune(
+    scene: SceneLike = "difftune-circle",
+    *,
+    factor: float = 10.0,
+    thrust_to_weight: Optional[float] = 2.0,
+    gradients: int = 20,
+    every: Optional[float] = None,
+) -> Dict[str, Any]:
+    """The gains ``k_x, k_v, k_R, k_Omega`` tuned on the exact gradient of
+    the tracking cost (as ``cargo xtask tune``): projected gradient descent
+    on their logarithms with a line search, each gain within
+    ``[g0 / factor, g0 * factor]`` of its start, no flight commanding more
+    than ``thrust_to_weight`` times the weight (``None``: no limit), at most
+    ``gradients`` gradient evaluations.
+
+    Returns a dict: ``scene`` (the tuned :class:`Scene`), ``names``, and per
+    iteration ``gains`` (n, 4), ``cost``, ``gradient`` (n, 4),
+    ``max_thrust`` (N) and ``plain_runs``; ``final_cost`` is the tuned
+    scene's. ``sqrt(cost / duration)`` is the RMS position error.
+    """
+    return _geopid.tune(
+        load_scene(scene), float(factor), thrust_to_weight, int(gradients), every
+    )

@@ -1,7 +1,7 @@
 """Type stubs of the native extension (the Rust crate python/src). Users
 import the wrappers in geopid/__init__.py; these describe what they call."""
 
-from typing import Any, Callable, Dict, List, Optional, Sequence
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -109,3 +109,17 @@ def montecarlo(
 
 def montecarlo_header() -> str:
     """The header of samples.csv."""
+
+def gradient(
+    scene: Scene, params: Sequence[str], every: Optional[float] = None
+) -> Tuple[float, np.ndarray]:
+    """The tracking cost and its gradient with respect to 1 to 4 parameters."""
+
+def tune(
+    scene: Scene,
+    factor: float,
+    thrust_to_weight: Optional[float],
+    gradients: int,
+    every: Optional[float] = None,
+) -> Dict[str, Any]:
+    """k_x, k_v, k_R, k_Omega tuned on the exact gradient of the tracking cost."""

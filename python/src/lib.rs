@@ -12,6 +12,7 @@ mod control;
 mod reference;
 mod result;
 mod scene;
+mod sensitivity;
 mod simulation;
 mod study;
 
@@ -63,8 +64,8 @@ pub(crate) fn scene_error(py: Python<'_>, e: &RsSceneError) -> PyErr {
 
 /// A simulation error as the Python exception of its kind: scene errors
 /// as `SceneError`, bad settings as `ValueError` (with `field`), output
-/// errors as `OSError`, and step and control failures as
-/// `SimulationError` with `t`.
+/// errors as `OSError`, and step and control failures and non-finite
+/// derivatives as `SimulationError` with `t`.
 pub(crate) fn sim_error(py: Python<'_>, e: &SimError) -> PyErr {
     let text = e.to_string();
     match e {
@@ -75,7 +76,9 @@ pub(crate) fn sim_error(py: Python<'_>, e: &SimError) -> PyErr {
             with_attrs(py, PyValueError::new_err(text), &attrs)
         }
         SimError::Output(_) => PyOSError::new_err(text),
-        SimError::Step { t, .. } | SimError::Control { t, .. } => {
+        SimError::Step { t, .. }
+        | SimError::Control { t, .. }
+        | SimError::NonFiniteDerivative { t, .. } => {
             let t = t.into_pyobject(py).map(|o| o.into_any().unbind());
             let attrs: Vec<_> = t.ok().map(|t| ("t", t)).into_iter().collect();
             with_attrs(py, SimulationError::new_err(text), &attrs)
@@ -98,6 +101,8 @@ fn _geopid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(control::attitude_control, m)?)?;
     m.add_function(wrap_pyfunction!(study::montecarlo, m)?)?;
     m.add_function(wrap_pyfunction!(study::montecarlo_header, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::gradient, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::tune, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

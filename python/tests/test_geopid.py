@@ -528,3 +528,54 @@ def test_a_bad_wind_parameter_names_its_key():
     with pytest.raises(geopid.SceneError) as e:
         geopid.load_scene(text)
     assert e.value.key == "wind.speed", str(e.value)
+
+
+def _with_gain(scene, key, value):
+    """The scene with `gains.<key>` set, through its TOML text."""
+    import re
+
+    text = scene.to_toml()
+    section = text.index("[gains]")
+    head, tail = text[:section], text[section:]
+    tail, n = re.subn(rf"(?m)^{key} = .*$", f"{key} = {value!r}", tail, count=1)
+    assert n == 1, key
+    return geopid.load_scene(head + tail)
+
+
+def test_gradient_equals_central_differences():
+    # Two seconds of DiffTune's circle; the exact gradient against central
+    # differences of the value itself at h = 1e-4 of the gain: truncation
+    # ~h^2 relative, rounding ~1e-16 / 1e-4 of the cost, both far below
+    # the 1e-6 allowed.
+    scene = geopid.load_scene("difftune-circle", duration=2.0)
+    value, g = geopid.gradient(scene, ["gains.k_x", "gains.k_omega"])
+    assert g.shape == (2,)
+    for i, key in enumerate(["k_x", "k_omega"]):
+        k0 = {"k_x": 16.0, "k_omega": 2.54}[key]
+        h = 1e-4 * k0
+        up, _ = geopid.gradient(_with_gain(scene, key, k0 + h), ["gains.k_x"])
+        down, _ = geopid.gradient(_with_gain(scene, key, k0 - h), ["gains.k_x"])
+        fd = (up - down) / (2 * h)
+        assert abs(g[i] - fd) <= 1e-6 * abs(fd), (key, g[i], fd)
+    # The value is the plain run's cost, bit for bit.
+    again, _ = geopid.gradient(scene, ["vehicle.mass"])
+    assert again == value
+    with pytest.raises(geopid.SceneError, match="gains.k_q"):
+        geopid.gradient(scene, ["gains.k_q"])
+    with pytest.raises(ValueError, match="between 1 and 4"):
+        geopid.gradient(scene, [])
+
+
+def test_tune_lowers_difftunes_error_3_5x_within_the_thrust_limit():
+    out = geopid.tune("difftune-circle", gradients=6)
+    scene = out["scene"]
+    rmse = np.sqrt(out["cost"] / scene.duration)
+    final = math.sqrt(out["final_cost"] / scene.duration)
+    assert rmse[0] / final >= 3.5, (rmse, final)
+    assert np.all(np.diff(out["cost"]) < 0)
+    weight = 4.34 * 9.81
+    assert np.all(out["max_thrust"] <= 2.0 * weight)
+    assert out["gains"].shape == (len(rmse), 4)
+    assert list(out["names"]) == ["gains.k_x", "gains.k_v", "gains.k_r", "gains.k_omega"]
+    assert out["gains"][0].tolist() == pytest.approx([16.0, 5.6, 8.81, 2.54], rel=1e-15)
+    assert abs(geopid.gradient(scene, ["gains.k_x"])[0] - out["final_cost"]) == 0.0

@@ -212,6 +212,34 @@ pub fn flip_rk4_1ms() -> (Scene, Scene) {
     (flip, exact)
 }
 
+/// [`flip_rk4_1ms`]'s final-state error ([`final_state_error`]) against
+/// its reference, in f64 and in f32 (nalgebra; the backends agree to
+/// rounding).
+pub fn flip_rk4_errors() -> Result<[f64; 2], SimError> {
+    let (mut flip, exact) = flip_rk4_1ms();
+    let truth = run(&exact, RunOptions::default())?.last;
+    let mut err = |scalar| {
+        flip.scalar = scalar;
+        run(&flip, RunOptions::default()).map(|o| final_state_error(&o.last, &truth))
+    };
+    Ok([
+        err(crate::scene::Scalar::F64)?,
+        err(crate::scene::Scalar::F32)?,
+    ])
+}
+
+/// The point of `points` with the least wall time among those with an
+/// error at most `target`: the reading of a work-precision figure.
+pub fn fastest_within<'p>(
+    points: impl IntoIterator<Item = &'p WorkPoint>,
+    target: f64,
+) -> Option<&'p WorkPoint> {
+    points
+        .into_iter()
+        .filter(|p| p.error <= target)
+        .min_by(|a, b| a.wall.total_cmp(&b.wall))
+}
+
 /// The largest component of |Δx| and |ΔR| between two samples (a run's
 /// final state against a reference's).
 pub fn final_state_error(a: &Sample, b: &Sample) -> f64 {

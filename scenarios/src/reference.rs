@@ -131,6 +131,24 @@ pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
             ];
             (d, [1.0, 0.0, 0.0])
         }
+        PositionRef::Sinusoids {
+            center,
+            amplitude,
+            omega,
+            phase,
+        } => {
+            let mut d = [[0.0; 3]; 5];
+            for i in 0..3 {
+                let (a, w) = (amplitude[i], omega[i]);
+                let (s, c) = (w * t + phase[i]).sin_cos();
+                d[0][i] = center[i] + a * s;
+                d[1][i] = a * w * c;
+                d[2][i] = -a * w * w * s;
+                d[3][i] = -a * w.powi(3) * c;
+                d[4][i] = a * w.powi(4) * s;
+            }
+            (d, [1.0, 0.0, 0.0])
+        }
         PositionRef::Circle {
             center,
             radius,

@@ -121,14 +121,14 @@ fn fly<B: Backend, const N: usize>(
     duration: f64,
     every: f64,
     mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), SimError>,
-) -> Result<(), SimError> {
+) -> Result<f64, SimError> {
     let mut k = 1u64;
     loop {
         let t = (k as f64 * every).min(duration);
         sim.advance_to(t)?;
         at(t, &sim.state())?;
         if t >= duration {
-            return Ok(());
+            return Ok(sim.output().max_thrust);
         }
         k += 1;
     }
@@ -284,6 +284,16 @@ pub fn plain_cost<C: Cost>(
     every: f64,
     cost: &mut C,
 ) -> Result<f64, SimError> {
+    plain_flight(registry, scene, every, cost).map(|f| f.0)
+}
+
+/// [`plain_cost`] and the largest |thrust| commanded along the flight, N.
+fn plain_flight<C: Cost>(
+    registry: &Registry,
+    scene: &Scene,
+    every: f64,
+    cost: &mut C,
+) -> Result<(f64, f64), SimError> {
     registry.check(scene)?;
     let (vehicle, plan, capacity) = registry.parts::<NalgebraF64>(scene, None, Seeds::NONE)?;
     let mut total = 0.0;
@@ -291,7 +301,7 @@ pub fn plain_cost<C: Cost>(
         total += cost.at(t, s);
         Ok(())
     };
-    match capacity {
+    let max_thrust = match capacity {
         6 => fly(
             builder_from::<_, 6>(scene, vehicle, plan, Seeds::NONE)?.build()?,
             scene.duration,
@@ -305,7 +315,7 @@ pub fn plain_cost<C: Cost>(
             &mut add,
         ),
     }?;
-    Ok(total)
+    Ok((total, max_thrust))
 }
 
 /// One iteration of [`tune`]: the parameters it started from, their cost
@@ -325,6 +335,8 @@ pub struct TuneStep<const K: usize> {
     pub step: f64,
     /// Plain runs the line search took.
     pub plain_runs: usize,
+    /// The largest |thrust| commanded along the flight with `values`, N.
+    pub max_thrust: f64,
 }
 
 /// What [`tune`] tunes, within which bounds, and for how long.
@@ -339,6 +351,9 @@ pub struct TuneSpec<'p, const K: usize> {
     pub every: f64,
     /// Gradient evaluations at most.
     pub max_gradients: usize,
+    /// The thrust the flight may command, N: the line search takes no
+    /// step whose flight commands more at any step (`None`: no limit).
+    pub max_thrust: Option<f64>,
 }
 
 /// Minimises `cost` over the named (positive) parameters of `scene` within
@@ -346,13 +361,16 @@ pub struct TuneSpec<'p, const K: usize> {
 /// changes each by a factor, so gains of different sizes move alike and
 /// stay positive) with a backtracking line search on plain runs (Armijo,
 /// halving; the next search starts from twice the last accepted step), for
-/// at most `spec.max_gradients` gradient evaluations. `report` sees each
-/// iteration. Returns the scene with the best parameters found and the
-/// iterations.
+/// at most `spec.max_gradients` gradient evaluations. A trial whose flight
+/// diverges ([`SimError::is_divergence`]) or commands more than
+/// `spec.max_thrust` counts as a rise in cost: the search halves the step.
+/// `report` sees each iteration. Returns the scene with the best parameters
+/// found and the iterations.
 ///
 /// Errors: a bound not `0 < lo ≤ value ≤ hi` or a parameter without a
-/// scene number (`initial.attitude[k]`), naming it; and those of
-/// [`gradient`].
+/// scene number (`initial.attitude[k]`), naming it; a starting flight above
+/// `max_thrust` ([`SimError::Setting`] on `max_thrust`); and those of
+/// [`gradient`] and of the plain runs.
 pub fn tune<const K: usize, C: Cost>(
     registry: &Registry,
     scene: &Scene,
@@ -365,6 +383,7 @@ pub fn tune<const K: usize, C: Cost>(
         bounds,
         every,
         max_gradients,
+        max_thrust,
     } = *spec;
     let mut best = scene.clone();
     let mut x = [0.0; K];
@@ -391,6 +410,17 @@ pub fn tune<const K: usize, C: Cost>(
         }
         s
     };
+    let (_, mut thrust) = plain_flight(registry, &best, every, cost)?;
+    let within = |f: f64| max_thrust.is_none_or(|limit| f <= limit);
+    if !within(thrust) {
+        return Err(SimError::Setting {
+            field: "max_thrust",
+            message: format!(
+                "{} N: the starting flight commands {thrust} N",
+                max_thrust.unwrap_or_default()
+            ),
+        });
+    }
     let mut history = Vec::new();
     let mut alpha: Option<f64> = None;
     for iteration in 0..max_gradients {
@@ -407,6 +437,7 @@ pub fn tune<const K: usize, C: Cost>(
             gradient: g.gradient,
             step: 0.0,
             plain_runs: 0,
+            max_thrust: thrust,
         };
         let mut accepted = None;
         for _ in 0..10 {
@@ -414,15 +445,19 @@ pub fn tune<const K: usize, C: Cost>(
                 (x[i] - a * gl[i]).clamp(bounds[i].0.ln(), bounds[i].1.ln())
             });
             let moved: f64 = (0..K).map(|i| gl[i] * (x[i] - trial[i])).sum();
-            let c = plain_cost(registry, &with(&trial), every, cost)?;
             step.plain_runs += 1;
-            if c.is_finite() && c <= g.value - 1e-4 * moved && moved > 0.0 {
-                accepted = Some(trial);
-                break;
+            match plain_flight(registry, &with(&trial), every, cost) {
+                Ok((c, f)) if c <= g.value - 1e-4 * moved && moved > 0.0 && within(f) => {
+                    accepted = Some((trial, f));
+                    break;
+                }
+                Ok(_) => {}
+                Err(e) if e.is_divergence() => {}
+                Err(e) => return Err(e),
             }
             a *= 0.5;
         }
-        let Some(trial) = accepted else {
+        let Some((trial, f)) = accepted else {
             report(&step);
             history.push(step);
             break;
@@ -431,9 +466,103 @@ pub fn tune<const K: usize, C: Cost>(
         report(&step);
         history.push(step);
         x = trial;
+        thrust = f;
         best = with(&x);
         // Try a longer step next time: the search only ever halves.
         alpha = Some(2.0 * a);
     }
     Ok((best, history))
+}
+
+/// The gains [`tune_gains`] tunes: the position and attitude loops'
+/// proportional and derivative gains (the paper's `k_x`, `k_v`, `k_R`,
+/// `k_Ω`).
+pub const TUNED_GAINS: [&str; 4] = ["gains.k_x", "gains.k_v", "gains.k_r", "gains.k_omega"];
+
+/// What [`tune_gains`] does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GainTuning {
+    /// Each gain stays within `[g₀ / factor, g₀ · factor]` of its starting
+    /// value `g₀` (`factor ≥ 1`).
+    pub factor: f64,
+    /// The tracking cost's sampling interval, s.
+    pub every: f64,
+    /// Gradient evaluations at most.
+    pub max_gradients: usize,
+    /// The thrust the flight may command, N (`None`: no limit).
+    pub max_thrust: Option<f64>,
+}
+
+/// [`tune`] on [`TUNED_GAINS`] with the [`Tracking`] cost of the scene's
+/// first position segment: `Σ ‖e_x‖² Δt`, so `sqrt(cost / duration)` is
+/// the RMS position error. Compiled once here (the dual engine for four
+/// directions), so a command line or a binding calls it without
+/// instantiating the engine again.
+///
+/// Errors: those of [`Tracking::of`] and [`tune`]; a `factor` below 1 or
+/// not finite ([`SimError::Setting`] on `factor`).
+pub fn tune_gains(
+    registry: &Registry,
+    scene: &Scene,
+    spec: &GainTuning,
+    report: &mut dyn FnMut(&TuneStep<4>),
+) -> Result<(Scene, Vec<TuneStep<4>>), SimError> {
+    if !(spec.factor.is_finite() && spec.factor >= 1.0) {
+        return Err(SimError::Setting {
+            field: "factor",
+            message: format!("{}: must be finite and ≥ 1", spec.factor),
+        });
+    }
+    let mut start = scene.clone();
+    let mut bounds = [(0.0, 0.0); 4];
+    for (b, name) in bounds.iter_mut().zip(TUNED_GAINS) {
+        let g0 = crate::from_scene::parameter_mut(&mut start, name).map_or(0.0, |p| *p);
+        *b = (g0 / spec.factor, g0 * spec.factor);
+    }
+    let mut cost = Tracking::of(scene, spec.every)?;
+    let tune_spec = TuneSpec {
+        params: TUNED_GAINS,
+        bounds,
+        every: spec.every,
+        max_gradients: spec.max_gradients,
+        max_thrust: spec.max_thrust,
+    };
+    tune(registry, scene, &tune_spec, &mut cost, report)
+}
+
+/// The [`Tracking`] cost of `scene` sampled every `every` and its gradient
+/// with respect to `params` (at most 4 of [`PARAMETERS`]), for callers
+/// that name the parameters at run time (a binding, a command line). The
+/// dual engine runs with 4 directions, the unused ones seeded with gains
+/// not asked for, whose derivatives are dropped: one instantiation,
+/// [`tune_gains`]'s, serves every call.
+///
+/// Errors: more than 4 names or none ([`SimError::Setting`] on `params`),
+/// and those of [`gradient`] and [`Tracking::of`].
+pub fn tracking_gradient(
+    registry: &Registry,
+    scene: &Scene,
+    params: &[&str],
+    every: f64,
+) -> Result<(f64, Vec<f64>), SimError> {
+    if params.is_empty() || params.len() > 4 {
+        return Err(SimError::Setting {
+            field: "params",
+            message: format!(
+                "{} names: between 1 and 4 at a time ({})",
+                params.len(),
+                params.join(", ")
+            ),
+        });
+    }
+    let mut spare = PARAMETERS
+        .iter()
+        .filter(|p| p.starts_with("gains.") && !params.contains(p));
+    let seeds: [&str; 4] = core::array::from_fn(|i| match params.get(i) {
+        Some(p) => *p,
+        None => spare.next().copied().unwrap_or_default(),
+    });
+    let mut cost = Tracking::of(scene, every)?;
+    let g = gradient(registry, scene, seeds, every, |t, s| cost.at(t, s))?;
+    Ok((g.value, g.gradient[..params.len()].to_vec()))
 }

@@ -107,6 +107,28 @@ fn a_closure_reference_flies_exactly_as_the_scene_reference() {
         let x = position_f64(&c, std::f64::consts::FRAC_PI_2 / omega.abs()).0[0];
         assert!((x[0] - 0.0).abs() < 1e-12 && (x[1] - omega.signum()).abs() < 1e-12);
     }
+    // Per-axis sinusoids: DiffTune's circle, its derivatives and its
+    // closed form (2(1 − cos t), 2 sin t, 0.1 sin t).
+    let s = PositionRef::Sinusoids {
+        center: [2.0, 0.0, 0.0],
+        amplitude: [2.0, 2.0, 0.1],
+        omega: [1.0, 1.0, 1.0],
+        phase: [-std::f64::consts::FRAC_PI_2, 0.0, 0.0],
+    };
+    let f = |t: f64| scenarios::reference::position::<B>(&s, t);
+    let m = derivative_mismatch(&f, 0.0, 10.0, 50);
+    assert!(m.iter().all(|e| *e < 1e-7), "{m:?}");
+    for t in [0.0, 0.7, 3.0] {
+        let (d, b1d) = position_f64(&s, t);
+        let closed = [2.0 * (1.0 - t.cos()), 2.0 * t.sin(), 0.1 * t.sin()];
+        assert!(
+            // A few ulps of 4: the phase −π/2 is rounded.
+            (0..3).all(|i| (d[0][i] - closed[i]).abs() < 4e-15),
+            "{:?} vs {closed:?}",
+            d[0]
+        );
+        assert_eq!(b1d, [1.0, 0.0, 0.0]);
+    }
 }
 
 #[test]

@@ -457,6 +457,15 @@ fn found_nan_in_a_reference_parameter() {
     }
     let (key, msg) = scene.validate().unwrap_err();
     assert_eq!(key, "omega", "{msg}");
+    scene.plan[0].position = Some(scenarios::scene::PositionRef::Sinusoids {
+        center: [0.0; 3],
+        amplitude: [1.0; 3],
+        omega: [1.0; 3],
+        phase: [0.0, f64::NAN, 0.0],
+    });
+    let (key, msg) = scene.validate().unwrap_err();
+    assert_eq!(key, "phase", "{msg}");
+    assert!(msg.contains("NaN"), "{msg}");
 }
 
 /// Found by the campaign: `[vehicle.params]` on a built-in kind was

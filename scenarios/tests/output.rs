@@ -438,3 +438,88 @@ fn a_work_point_row_reads_back() {
     };
     assert_eq!(back, p);
 }
+
+/// Tables as a log: one channel per table, every row a JSON message whose
+/// numbers read back as the CSV's, an empty numeric cell as `null` (and
+/// the schema allowing it), a text column as strings; a short row is an
+/// error naming the table and line, leaving no file behind.
+#[test]
+fn tables_read_back_from_the_log() {
+    use scenarios::output::{Table, write_tables};
+    let dir = tmpdir("tables");
+    let path = dir.join("t.mcap");
+    let summary = "name,median_ns,ratio\nposition \"update\",150.25,1.25\nstep,9e3,\n";
+    let points = "integrator,steps,error\nrk4,4004,1.1e-8\neuler,+1,.5\n";
+    let tables = [
+        Table {
+            topic: "/bench/summary",
+            schema: "gpid.BenchRow",
+            csv: summary,
+        },
+        Table {
+            topic: "/bench/work_precision",
+            schema: "gpid.WorkPrecisionPoint",
+            csv: points,
+        },
+    ];
+    assert_eq!(write_tables(&path, 1_000, &tables).unwrap(), 4);
+    let bytes = std::fs::read(&path).unwrap();
+    let mut seen = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let schema = m.channel.schema.as_ref().unwrap();
+        let text = String::from_utf8(m.data.to_vec()).unwrap();
+        seen.push((
+            m.channel.topic.clone(),
+            m.log_time,
+            String::from_utf8(schema.data.to_vec()).unwrap(),
+            text,
+        ));
+    }
+    assert_eq!(seen.len(), 4);
+    assert_eq!(seen[0].0, "/bench/summary");
+    assert_eq!(
+        seen[0].3,
+        r#"{"name":"position \"update\"","median_ns":150.25,"ratio":1.25}"#
+    );
+    assert_eq!(seen[1].3, r#"{"name":"step","median_ns":9e3,"ratio":null}"#);
+    assert!(
+        seen[0].2.contains(r#""ratio":{"type":["number","null"]}"#),
+        "{}",
+        seen[0].2
+    );
+    assert!(
+        seen[0].2.contains(r#""median_ns":{"type":"number"}"#),
+        "{}",
+        seen[0].2
+    );
+    assert!(
+        seen[0].2.contains(r#""name":{"type":"string"}"#),
+        "{}",
+        seen[0].2
+    );
+    assert_eq!(seen[2].0, "/bench/work_precision");
+    assert_eq!(
+        seen[2].3,
+        r#"{"integrator":"rk4","steps":4004,"error":1.1e-8}"#
+    );
+    // Numbers f64 reads but JSON does not, reformatted.
+    assert_eq!(
+        seen[3].3,
+        r#"{"integrator":"euler","steps":1.0,"error":0.5}"#
+    );
+    assert_eq!(
+        seen.iter().map(|s| s.1).collect::<Vec<_>>(),
+        [1_001, 1_002, 1_003, 1_004]
+    );
+
+    let bad = [Table {
+        topic: "/t",
+        schema: "s",
+        csv: "a,b\n1,2\n3\n",
+    }];
+    let e = write_tables(&dir.join("bad.mcap"), 0, &bad).unwrap_err();
+    assert!(e.message.contains("/t: line 3"), "{e}");
+    assert!(!dir.join("bad.mcap").exists() && !dir.join("bad.mcap.partial").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

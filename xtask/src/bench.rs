@@ -36,13 +36,11 @@ use scenarios::scene::{BackendKind, Scalar};
 
 mod lanes;
 mod lie_table;
-mod mcap_log;
 
 pub use lie_table::lie_table;
 
 use crate::sweep::{Point, points};
 use crate::workspace_root;
-use mcap_log::write_mcap;
 
 /// Options of `cargo xtask bench`.
 #[derive(clap::Args, Debug)]
@@ -77,17 +75,8 @@ const PAIRS: [(&str, BackendKind, Scalar); 4] = [
 ];
 
 fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
-    let b = indicatif::ProgressBar::with_draw_target(
-        Some(len),
-        indicatif::ProgressDrawTarget::stderr(),
-    );
-    if let Ok(style) = indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}") {
-        b.set_style(style);
-    }
+    let b = crate::progress(len, "{msg} [{bar:30}] {pos}/{len}");
     b.set_message(what.to_string());
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        b.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
     b
 }
 
@@ -352,14 +341,18 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
             ratio.map_or("–".into(), |x| format!("{x:.2}"))
         );
     }
-    println!("{}", flip_error_line()?);
+    let [e64, e32] = scenarios::metrics::flip_rk4_errors().map_err(|e| e.to_string())?;
+    println!(
+        "paper-flip rk4 1 ms whole run: final-state error (max |Δx|, |ΔR| against dopri 1e-12 f64) {e64:.2e} in f64, {e32:.2e} in f32"
+    );
     let mut raw = Vec::new();
     crate::collect(&crit, &mut raw)?;
     lie_table(&raw, true);
     lanes::lanes_table(&raw);
     lanes::throughput(a.quick);
     let summary = out_dir.join("summary.csv");
-    std::fs::write(&summary, csv).map_err(|e| format!("{}: {e}", summary.display()))?;
+    std::fs::write(&summary, &csv).map_err(|e| format!("{}: {e}", summary.display()))?;
+    let summary_csv = csv;
 
     // Work-precision on every pair.
     let mut wp: Vec<(String, &str, Point)> = Vec::new();
@@ -388,13 +381,24 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         csv += &format!("{scene},{backend},{scalar},{}\n", p.csv_row());
     }
     let wp_csv = out_dir.join("work_precision.csv");
-    std::fs::write(&wp_csv, csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
+    std::fs::write(&wp_csv, &csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
     let wp_svg = out_dir.join("work_precision.svg");
     scenarios::figures::work_precision_panels(&wp_svg, &wp).map_err(|e| e.to_string())?;
     best_per_accuracy(&wp);
 
+    // The tables as a log, read with the same tools as the flight logs;
+    // stamped with the time of the run, so that files of several runs line
+    // up on one timeline.
     let mcap = out_dir.join("bench.mcap");
-    write_mcap(&mcap, &rows, &wp).map_err(|e| format!("{}: {e}", mcap.display()))?;
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    let tables = [
+        ("/bench/summary", "gpid.BenchRow", summary_csv.as_str()),
+        ("/bench/work_precision", "gpid.WorkPrecisionPoint", &csv),
+    ]
+    .map(|(topic, schema, csv)| scenarios::output::Table { topic, schema, csv });
+    scenarios::output::write_tables(&mcap, now, &tables).map_err(|e| e.to_string())?;
     println!(
         "wrote {}, {}, {}, {} in {:.0} s",
         summary.display(),
@@ -406,30 +410,8 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// The accuracy of the timed paper-flip runs (RK4 at 1 ms, a sample every
-/// 0.05 s): final state against Dormand–Prince at 1e-12 in f64, for both
-/// scalars (the backends agree to rounding).
-fn flip_error_line() -> Result<String, String> {
-    let (mut flip, exact) = scenarios::metrics::flip_rk4_1ms();
-    let last = |s: &scenarios::Scene| {
-        scenarios::run(s, scenarios::RunOptions::default())
-            .map(|o| o.last)
-            .map_err(|e| e.to_string())
-    };
-    let truth = last(&exact)?;
-    let mut errs = Vec::new();
-    for scalar in [Scalar::F64, Scalar::F32] {
-        flip.scalar = scalar;
-        errs.push(scenarios::metrics::final_state_error(&last(&flip)?, &truth));
-    }
-    Ok(format!(
-        "paper-flip rk4 1 ms whole run: final-state error (max |Δx|, |ΔR| against dopri 1e-12 f64) {:.2e} in f64, {:.2e} in f32",
-        errs[0], errs[1]
-    ))
-}
-
-/// For each scene and pair, the fastest stepper to reach 1e-6, 1e-9 (when
-/// any does): the reading of the work-precision figure.
+/// For each scene and pair, the fastest stepper to reach 1e-4, 1e-6, 1e-9
+/// (when any does): the reading of the work-precision figure.
 fn best_per_accuracy(wp: &[(String, &str, Point)]) {
     println!("\nfastest stepper to reach an accuracy (wall time, best of 3):");
     println!("| scene | pair | ≤ 1e-4 | ≤ 1e-6 | ≤ 1e-9 |");
@@ -437,19 +419,36 @@ fn best_per_accuracy(wp: &[(String, &str, Point)]) {
     let mut keys: Vec<(String, &str)> = wp.iter().map(|(s, p, _)| (s.clone(), *p)).collect();
     keys.dedup();
     for (scene, pair) in keys {
+        let of_pair = || wp.iter().filter(|(s, p, _)| *s == scene && *p == pair);
         let cell = |target: f64| {
-            wp.iter()
-                .filter(|(s, p, x)| *s == scene && *p == pair && x.error <= target)
-                .min_by(|a, b| a.2.wall.total_cmp(&b.2.wall))
-                .map_or("none".to_string(), |(_, _, x)| {
+            scenarios::metrics::fastest_within(of_pair().map(|w| &w.2), target)
+                .map_or("none".to_string(), |x| {
                     format!("{} {:.2e} ({:.1} ms)", x.kind, x.param, x.wall * 1e3)
                 })
         };
-        println!(
-            "| {scene} | {pair} | {} | {} | {} |",
-            cell(1e-4),
-            cell(1e-6),
-            cell(1e-9)
+        let [a, b, c] = [1e-4, 1e-6, 1e-9].map(cell);
+        println!("| {scene} | {pair} | {a} | {b} | {c} |");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Variant, parse};
+
+    #[test]
+    fn criterion_ids_split_into_group_pair_and_twin() {
+        assert_eq!(
+            parse("position/glam-f64-hand"),
+            Some(("position".into(), "glam-f64".into(), Variant::Hand))
         );
+        assert_eq!(
+            parse("step-rk4/nalgebra-f32"),
+            Some(("step-rk4".into(), "nalgebra-f32".into(), Variant::Generic))
+        );
+        assert_eq!(
+            parse("step-rk4/glam-f32-direct"),
+            Some(("step-rk4".into(), "glam-f32".into(), Variant::Direct))
+        );
+        assert_eq!(parse("nogroup"), None);
     }
 }

@@ -33,6 +33,7 @@ mod regress;
 mod run;
 mod stress;
 mod sweep;
+mod tune;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -62,6 +63,9 @@ enum Cmd {
     /// attractivity, Propositions 2–3); `merge` combines shards, `near-pi`
     /// measures the slow escape from the π equilibrium.
     Montecarlo(Box<montecarlo::McArgs>),
+    /// The gains k_x, k_v, k_R, k_Ω tuned on the exact gradient of a
+    /// scene's tracking cost, within bounds and a thrust limit.
+    Tune(tune::TuneArgs),
     /// Run time against error for every stepper on one scene.
     Sweep(sweep::SweepArgs),
     /// Numerical stress cases, each against a bound with its reason:
@@ -97,6 +101,7 @@ fn main() -> ExitCode {
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Montecarlo(a) => montecarlo::montecarlo(*a),
         Cmd::Gains(a) => gains::gains(*a),
+        Cmd::Tune(a) => tune::tune(a),
         Cmd::Bench(a) => bench::bench(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
@@ -109,6 +114,19 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A progress bar of `len` steps drawn with `template` on stderr when it
+/// is a terminal, hidden otherwise (a log, CI).
+fn progress(len: u64, template: &str) -> indicatif::ProgressBar {
+    let b = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+        b.set_style(style);
+    }
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        b.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    b
 }
 
 fn workspace_root() -> PathBuf {

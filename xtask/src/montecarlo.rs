@@ -362,16 +362,10 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         }
     });
     std::fs::create_dir_all(&dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
-    let bar = indicatif::ProgressBar::new(indices.len() as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} samples, {per_sec}, {elapsed}<{eta}",
-        )
-        .expect("static template"),
+    let bar = crate::progress(
+        indices.len() as u64,
+        "{bar:40} {pos}/{len} samples, {per_sec}, {elapsed}<{eta}",
     );
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
     let started = std::time::Instant::now();
     let rows = run_indices(&setup, &indices, threads, Some(&bar), a.lanes)?;
     bar.finish_and_clear();

@@ -107,14 +107,8 @@ pub fn run_scene_with(
     cancel: Option<&AtomicBool>,
 ) -> Result<RunOutput, SimError> {
     let est_steps = scene.estimated_steps();
-    let bar = (est_steps > 2e5).then(|| {
-        let b = indicatif::ProgressBar::new(1000);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} {elapsed}<{eta}")
-                .expect("static template"),
-        );
-        b
-    });
+    let bar = (est_steps > 2e5)
+        .then(|| crate::progress(1000, "{bar:40} {percent:>3}% {msg} {elapsed}<{eta}"));
     // Off a terminal (a log, CI), a line at most every 10 s instead of the
     // bar.
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());

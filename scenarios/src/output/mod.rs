@@ -28,11 +28,13 @@ pub use crate::sim::{OutputError, Sink, Tee, Watched};
 mod csv;
 mod mcap_file;
 mod paths;
+mod table_log;
 pub use csv::{CsvWriter, csv_header, csv_row, write_csv};
 pub use mcap_file::{
     McapWriter, STATES_TOPIC, STATIC_TF_NS, TOPICS, WIND_TOPIC, msg, quaternion_xyzw, write_mcap,
 };
 pub use paths::{PathError, check_paths, is_stdout};
+pub use table_log::{Table, write_tables};
 
 /// The CSV header, fixed.
 pub const CSV_HEADER: &str =

@@ -534,6 +534,21 @@ pub enum PositionRef {
         /// ω, rad/s.
         omega: f64,
     },
+    /// A sinusoid on each axis, x_d,i = c_i + A_i sin(ω_i t + φ_i), b1d =
+    /// e1: ellipses, circles in any plane and with any start point, and
+    /// Lissajous curves (DiffTune's circle `(2(1 − cos t), 2 sin t,
+    /// 0.1 sin t)` is A = (2, 2, 0.1), ω = (1, 1, 1), φ = (−π/2, 0, 0),
+    /// c = (2, 0, 0)).
+    Sinusoids {
+        /// c, m.
+        center: [f64; 3],
+        /// A per axis, m.
+        amplitude: [f64; 3],
+        /// ω per axis, rad/s.
+        omega: [f64; 3],
+        /// φ per axis, rad.
+        phase: [f64; 3],
+    },
     /// Circle x_d = c + r (cos ωt, sin ωt, 0), b1d = e1; ω < 0 turns the
     /// other way (RotorPy's z-up circle seen with e3 down).
     Circle {

@@ -380,6 +380,17 @@ fn validate_references(k: usize, seg: &SegmentSpec) -> Result<(), (&'static str,
             num("b", *b)?;
             num("omega", *omega)?;
         }
+        Some(PositionRef::Sinusoids {
+            center,
+            amplitude,
+            omega,
+            phase,
+        }) => {
+            num3("center", center)?;
+            num3("amplitude", amplitude)?;
+            num3("omega", omega)?;
+            num3("phase", phase)?;
+        }
         Some(PositionRef::Circle {
             center,
             radius,

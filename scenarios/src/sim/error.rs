@@ -102,7 +102,10 @@ impl SimError {
     pub fn is_divergence(&self) -> bool {
         matches!(
             self,
-            SimError::Step {
+            SimError::Control {
+                source: controllers::ControlError::NonFinite { .. },
+                ..
+            } | SimError::Step {
                 control: Some(controllers::ControlError::NonFinite { .. }),
                 ..
             } | SimError::Step {
