@@ -68,6 +68,11 @@ pub struct Dopri<B: Backend> {
     atol: S<B>,
     h_next: Option<S<B>>,
     max_substeps: u32,
+    /// The accepted substeps' sizes, when asked for ([`Dopri::logging_substeps`]).
+    log: Option<Vec<f64>>,
+    /// Substep sizes to take instead of the controller's, and the next one
+    /// ([`Dopri::replaying_substeps`]).
+    replay: Option<(Vec<f64>, usize)>,
 }
 
 impl<B: Backend> Dopri<B> {
@@ -92,7 +97,44 @@ impl<B: Backend> Dopri<B> {
             atol: tol,
             h_next: None,
             max_substeps: u32::MAX,
+            log: None,
+            replay: None,
         }
+    }
+
+    /// Takes the substeps `sizes` in order (as [`Dopri::take_substep_log`]
+    /// gave them) instead of the controller's, accepting each: the logged
+    /// run's steps at fixed sizes, so that a run with changed parameters
+    /// takes the same steps (the derivative a dual run computes, whose
+    /// step-size control reads values only). Once `sizes` runs out the
+    /// controller takes over.
+    pub fn replaying_substeps(mut self, sizes: Vec<f64>) -> Self {
+        self.replay = Some((sizes, 0));
+        self
+    }
+
+    /// The next replayed substep size, if replaying.
+    fn replayed(&mut self) -> Option<S<B>> {
+        let (sizes, next) = self.replay.as_mut()?;
+        let h = *sizes.get(*next)?;
+        *next += 1;
+        Some(S::<B>::lit(h))
+    }
+
+    /// Keeps the size of every accepted substep (in order, the last of a
+    /// call shortened as taken), for [`Dopri::take_substep_log`]: what a
+    /// replay of this run's step sequence at fixed sizes needs (comparing
+    /// derivatives of a run with finite differences of runs that take the
+    /// same steps).
+    pub fn logging_substeps(mut self) -> Self {
+        self.log = Some(Vec::new());
+        self
+    }
+
+    /// The substep sizes logged since the last call (empty unless
+    /// [`Dopri::logging_substeps`]).
+    pub fn take_substep_log(&mut self) -> Vec<f64> {
+        self.log.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
     /// Fail a call with [`StepError::TooManySubsteps`] once it has taken
@@ -136,7 +178,10 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
         // drops derivatives, and is nothing for f32/f64): a run on a scalar
         // with derivatives takes the plain run's substeps, as constants.
         let value = |x: S<B>| lie::SimdReal::with_derivatives_of(x, S::<B>::zero());
-        let mut hs = value(self.h_next.unwrap_or(h).min(h));
+        let mut hs = match self.replayed() {
+            Some(r) => r,
+            None => value(self.h_next.unwrap_or(h).min(h)),
+        };
         let mut k1 = body.deriv(&cur, &eval(sys, tc, &cur)?);
         stats.evaluations += 1;
         let zero_state = {
@@ -167,8 +212,11 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
             } else {
                 (l(0.9) * en.powf(l(-0.2))).max(l(0.2)).min(l(5.0))
             };
-            if en <= S::<B>::one() {
+            if en <= S::<B>::one() || self.replay.is_some() {
                 stats.substeps += 1;
+                if let Some(log) = &mut self.log {
+                    log.push(hs.to_f64_lossless());
+                }
                 cur = next;
                 k1 = k7;
                 if last {
@@ -179,7 +227,10 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
                 if !last {
                     self.h_next = Some(hs * fac);
                 }
-                hs *= fac;
+                hs = match self.replayed() {
+                    Some(r) => r,
+                    None => hs * fac,
+                };
             } else {
                 stats.rejected += 1;
                 hs *= fac.min(S::<B>::one());
