@@ -96,6 +96,7 @@ compile_error!("lie needs either the `std` or the `libm` feature for its maths f
 mod backend;
 mod bundle;
 mod convert;
+pub mod cpu;
 #[cfg(feature = "dual")]
 mod dual;
 mod group;

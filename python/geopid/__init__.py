@@ -25,8 +25,12 @@ from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _geopid
-from ._geopid import DivergedError, Scene, SceneError, SimulationError
+from ._native import ext as _geopid
+
+DivergedError = _geopid.DivergedError
+Scene = _geopid.Scene
+SceneError = _geopid.SceneError
+SimulationError = _geopid.SimulationError
 
 __all__ = [
     "DivergedError",
@@ -37,6 +41,7 @@ __all__ = [
     "SimulationError",
     "attitude_control",
     "gradient",
+    "instruction_set",
     "load_scene",
     "montecarlo",
     "position_control",
@@ -48,6 +53,15 @@ __all__ = [
 __version__ = _geopid.__version__
 
 SceneLike = Union[str, "os.PathLike[str]", Mapping[str, Any], Scene]
+
+
+def instruction_set() -> str:
+    """The instructions the loaded build of the extension uses:
+    ``"x86-64-v3"`` (AVX2, FMA: the SIMD lanes' fast path) or
+    ``"baseline"`` (any x86-64). A wheel imports its x86-64-v3 build on a
+    CPU that has those features; ``GEOPID_INSTRUCTION_SET=baseline`` forces
+    the other. Results are identical to the bit either way."""
+    return _geopid.instruction_set()
 
 
 def scene_names() -> list:

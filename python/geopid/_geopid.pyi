@@ -123,3 +123,6 @@ def tune(
     every: Optional[float] = None,
 ) -> Dict[str, Any]:
     """k_x, k_v, k_R, k_Omega tuned on the exact gradient of the tracking cost."""
+
+def instruction_set() -> str: ...
+def cpu_has_x86_64_v3() -> bool: ...

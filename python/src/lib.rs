@@ -87,10 +87,48 @@ pub(crate) fn sim_error(py: Python<'_>, e: &SimError) -> PyErr {
     }
 }
 
-/// The extension module.
+// The wheel's second build of this extension, for x86-64-v3 CPUs, must
+// be compiled for them: its name promises the instructions.
+#[cfg(all(feature = "x86-64-v3", not(target_feature = "avx2")))]
+compile_error!("the `x86-64-v3` module needs RUSTFLAGS=\"-C target-cpu=x86-64-v3\"");
+
+/// The extension module, as built for any x86-64 (or for the machine that
+/// builds it, from a checkout).
+#[cfg(not(feature = "x86-64-v3"))]
 #[pymodule]
 fn _geopid(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    register(m)
+}
+
+/// The same module built with AVX2 and FMA: `geopid` imports it instead of
+/// `_geopid` on a CPU that has them (the SIMD lanes choose their
+/// instructions when compiled, so the choice is between two builds).
+#[cfg(feature = "x86-64-v3")]
+#[pymodule]
+fn _geopid_x86_64_v3(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    register(m)
+}
+
+/// Which instructions this build uses (`"x86-64-v3"` or `"baseline"`).
+#[pyfunction]
+fn instruction_set() -> &'static str {
+    lie::cpu::compiled().name()
+}
+
+/// Whether the running CPU has every x86-64-v3 feature (`cpuid`).
+#[pyfunction]
+fn cpu_has_x86_64_v3() -> bool {
+    lie::cpu::cpu_has_x86_64_v3()
+}
+
+fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // A build from a checkout uses the building machine's instructions:
+    // copied to an older CPU, it refuses to import with the features named
+    // instead of faulting in the middle of a call.
+    lie::cpu::check().map_err(|e| pyo3::exceptions::PyImportError::new_err(e.to_string()))?;
     let py = m.py();
+    m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
+    m.add_function(wrap_pyfunction!(cpu_has_x86_64_v3, m)?)?;
     m.add("SceneError", py.get_type::<SceneError>())?;
     m.add("SimulationError", py.get_type::<SimulationError>())?;
     m.add("DivergedError", py.get_type::<DivergedError>())?;

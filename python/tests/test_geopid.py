@@ -476,6 +476,52 @@ def test_montecarlo_on_lanes_equals_the_scalar_rows_without_event_location():
     assert e.value.field == "integrator"
 
 
+def _both_builds_installed():
+    from geopid import _native
+    import importlib.util
+    return (_native._baseline.cpu_has_x86_64_v3()
+            and importlib.util.find_spec("geopid._geopid_x86_64_v3") is not None)
+
+
+def _in_fresh_interpreter(code, *args, instruction_set=None):
+    env = dict(os.environ)
+    env.pop("GEOPID_INSTRUCTION_SET", None)
+    if instruction_set is not None:
+        env["GEOPID_INSTRUCTION_SET"] = instruction_set
+    return subprocess.run([sys.executable, "-c", code, *map(str, args)], env=env,
+                          capture_output=True, text=True, cwd=os.path.dirname(ROOT))
+
+
+def test_the_two_builds_of_a_wheel_fly_the_same_samples(tmp_path):
+    """A wheel carries the extension built for any x86-64 and for
+    x86-64-v3 (AVX2, FMA): the lanes' instructions differ, the samples may
+    not. CI sets GEOPID_REQUIRE_BOTH_BUILDS=1 for its wheel, where a skip
+    would hide a wheel that lost one build."""
+    if not _both_builds_installed():
+        if os.environ.get("GEOPID_REQUIRE_BOTH_BUILDS") == "1":
+            pytest.fail("GEOPID_REQUIRE_BOTH_BUILDS=1, but the x86-64-v3 build is not installed or this CPU lacks it")
+        pytest.skip("one build of the extension here (a build from a checkout), or a CPU without x86-64-v3")
+    code = ("import geopid, sys\n"
+            "geopid.montecarlo('position', samples=1000, seed=1, lanes=True, csv=sys.argv[1])\n"
+            "print(geopid.instruction_set())")
+    for want in ["baseline", "x86-64-v3", None]:
+        done = _in_fresh_interpreter(code, tmp_path / f"{want}.csv", instruction_set=want)
+        assert done.returncode == 0, done.stderr[-500:]
+        # Unset, the CPU decides: this one has x86-64-v3.
+        assert done.stdout.strip() == (want or "x86-64-v3")
+    base = (tmp_path / "baseline.csv").read_bytes()
+    assert len(base.splitlines()) == 1001
+    assert (tmp_path / "x86-64-v3.csv").read_bytes() == base
+    assert (tmp_path / "None.csv").read_bytes() == base
+
+
+def test_a_wrong_instruction_set_request_is_refused_naming_the_variable():
+    done = _in_fresh_interpreter("import geopid", instruction_set="avx9")
+    assert done.returncode != 0
+    assert "GEOPID_INSTRUCTION_SET='avx9'" in done.stderr
+    assert geopid.instruction_set() in ("baseline", "x86-64-v3")
+
+
 @pytest.mark.parametrize("call", [
     "geopid.montecarlo('position', samples=100000, seed=1, lanes=True)",
     "geopid.montecarlo('position', samples=100000, seed=1)",

@@ -90,6 +90,13 @@ enum Cmd {
 }
 
 fn main() -> ExitCode {
+    // Before any of this build's instructions can fault: a binary built with
+    // the machine's instruction set (this workspace's default) and copied to
+    // an older CPU stops here with the features it lacks named.
+    if let Err(e) = lie::cpu::check() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Run(a) => match run::run(*a) {

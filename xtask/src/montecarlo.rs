@@ -242,7 +242,8 @@ pub fn run_indices(
             .run_lanes(indices, Some(threads), Some(&report))
             .map_err(|e| e.to_string())?;
         println!(
-            "lanes: f64x4, {} lane-substeps, {:.3} % of them in an empty lane (the queue's tail)",
+            "lanes: f64x4 on the {} path, {} lane-substeps, {:.3} % of them in an empty lane (the queue's tail)",
+            lie::cpu::compiled().name(),
             usage.busy + usage.idle,
             100.0 * usage.idle_fraction()
         );
