@@ -84,11 +84,11 @@ const CSV_BATCH: usize = 4096;
 /// vehicle's state count), then whole rows.
 fn write_csv_batches(
     mut w: BufWriter<File>,
-    rx: std::sync::mpsc::Receiver<CsvBatch>,
+    (rx, back): WorkerEnds<CsvBatch>,
 ) -> std::io::Result<BufWriter<File>> {
     let mut header = false;
     let mut row = Vec::with_capacity(1024);
-    for b in rx {
+    for mut b in rx {
         if !header {
             header = true;
             writeln!(w, "{}", csv_header(b.width - CSV_FIXED))?;
@@ -99,6 +99,10 @@ fn write_csv_batches(
             row.push(b'\n');
             w.write_all(&row)?;
         }
+        b.nums.clear();
+        b.modes.clear();
+        // The writer gone (its run failed) needs no buffers back.
+        let _ = back.send(b);
     }
     Ok(w)
 }
@@ -126,8 +130,8 @@ impl CsvWriter {
         let (target, f) = Target::open(path)?;
         let w = BufWriter::with_capacity(1 << 20, f);
         let csv_path = path.to_path_buf();
-        let worker = Worker::spawn(path, "csv-writer", move |rx| {
-            write_csv_batches(w, rx).map_err(|e| err_io(&csv_path, &e))
+        let worker = Worker::spawn(path, "csv-writer", move |ends| {
+            write_csv_batches(w, ends).map_err(|e| err_io(&csv_path, &e))
         })?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -149,10 +153,13 @@ impl CsvWriter {
 
     fn send(&mut self) -> Result<(), OutputError> {
         let width = self.batch.width;
-        let next = CsvBatch {
-            width,
-            nums: Vec::with_capacity(width * CSV_BATCH),
-            modes: Vec::with_capacity(CSV_BATCH),
+        let next = match self.worker.recycled() {
+            Some(b) => CsvBatch { width, ..b },
+            None => CsvBatch {
+                width,
+                nums: Vec::with_capacity(width * CSV_BATCH),
+                modes: Vec::with_capacity(CSV_BATCH),
+            },
         };
         let batch = std::mem::replace(&mut self.batch, next);
         self.worker.send(batch)

@@ -209,30 +209,44 @@ impl Drop for Target {
 /// A writer thread fed batches through a bounded queue (two in flight:
 /// enough to ride out a slow write, and memory stays a few MB); a writer
 /// slower than the simulation slows it down instead of piling up samples.
+/// The thread hands each batch back once written, so that a run allocates
+/// its few batch buffers once, not one per batch.
 struct Worker<T, R> {
     path: PathBuf,
     what: &'static str,
     tx: Option<std::sync::mpsc::SyncSender<T>>,
+    back: std::sync::mpsc::Receiver<T>,
     thread: Option<std::thread::JoinHandle<Result<R, OutputError>>>,
 }
+
+/// The two ends a writer thread gets: batches to write, and the way back
+/// for their emptied buffers.
+type WorkerEnds<T> = (std::sync::mpsc::Receiver<T>, std::sync::mpsc::Sender<T>);
 
 impl<T: Send + 'static, R: Send + 'static> Worker<T, R> {
     fn spawn(
         path: &Path,
         what: &'static str,
-        work: impl FnOnce(std::sync::mpsc::Receiver<T>) -> Result<R, OutputError> + Send + 'static,
+        work: impl FnOnce(WorkerEnds<T>) -> Result<R, OutputError> + Send + 'static,
     ) -> Result<Self, OutputError> {
         let (tx, rx) = std::sync::mpsc::sync_channel::<T>(2);
+        let (back_tx, back) = std::sync::mpsc::channel::<T>();
         let thread = std::thread::Builder::new()
             .name(what.into())
-            .spawn(move || work(rx))
+            .spawn(move || work((rx, back_tx)))
             .map_err(|e| err(path, e))?;
         Ok(Self {
             path: path.to_path_buf(),
             what,
             tx: Some(tx),
+            back,
             thread: Some(thread),
         })
+    }
+
+    /// A batch the thread has written and handed back, if one is waiting.
+    fn recycled(&self) -> Option<T> {
+        self.back.try_recv().ok()
     }
 
     fn send(&mut self, batch: T) -> Result<(), OutputError> {

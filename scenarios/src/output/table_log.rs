@@ -115,7 +115,8 @@ fn write_to(
     let mcap_err = |e: mcap::McapError| err_chain(path, &e);
     let file = BufWriter::new(File::create(tmp).map_err(|e| super::err_io(path, &e))?);
     let mut w = mcap::WriteOptions::new()
-        .compression(Some(mcap::Compression::Lz4))
+        // Uncompressed, as the flight logs: no compression codec to build.
+        .compression(None)
         .profile("")
         .create(file)
         .map_err(mcap_err)?;
