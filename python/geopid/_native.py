@@ -14,6 +14,7 @@ build from a checkout (``pip install ./python``) has one module, compiled
 for the machine that built it.
 """
 
+import importlib
 import os
 from types import ModuleType
 
@@ -32,10 +33,16 @@ def _choose() -> ModuleType:
         if want == "x86-64-v3":
             raise ImportError(f"{_VARIABLE}=x86-64-v3, but this CPU lacks AVX2, FMA or another x86-64-v3 feature")
         return _baseline
+    fast_name = f"{__package__}._geopid_x86_64_v3"
     try:
-        from . import _geopid_x86_64_v3 as fast
-    except ModuleNotFoundError:
-        if want == "x86-64-v3":
+        # `import_module`, not `from . import`: a missing submodule is then
+        # a ModuleNotFoundError naming it, not an ImportError about the
+        # package being initialised.
+        fast = importlib.import_module(fast_name)
+    except ModuleNotFoundError as e:
+        if e.name != fast_name:
+            raise
+        if want == "x86-64-v3" and _baseline.instruction_set() != "x86-64-v3":
             raise ImportError(
                 f"{_VARIABLE}=x86-64-v3, but this installation has one build of the extension "
                 f"(built for {_baseline.instruction_set()})"

@@ -4,9 +4,7 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scenarios::Registry;
-use scenarios::sensitivity::{
-    GainTuning, TUNED_GAINS, Tracking, plain_cost, tracking_gradient, tune_gains,
-};
+use scenarios::sensitivity::{GainTuning, TUNED_GAINS, tracking_gradient, tune_gains};
 
 use crate::arrays::{array, rows};
 use crate::scene::Scene;
@@ -56,12 +54,10 @@ pub(crate) fn tune<'py>(
     };
     let out = py.detach(|| {
         let reg = Registry::new();
-        let (tuned, history) = tune_gains(&reg, sc, &spec, &mut |_| {})?;
-        let mut cost = Tracking::of(sc, spec.every)?;
-        let last = plain_cost(&reg, &tuned, spec.every, &mut cost)?;
-        Ok((tuned, history, last))
+        tune_gains(&reg, sc, &spec, &mut |_| {})
     });
-    let (tuned, history, last) = out.map_err(|e| sim_error(py, &e))?;
+    let out = out.map_err(|e| sim_error(py, &e))?;
+    let (tuned, history, last) = (out.scene, out.history, out.final_cost);
     let d = PyDict::new(py);
     d.set_item("names", TUNED_GAINS.to_vec())?;
     d.set_item("scene", Scene { inner: tuned })?;

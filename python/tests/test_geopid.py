@@ -515,6 +515,28 @@ def test_the_two_builds_of_a_wheel_fly_the_same_samples(tmp_path):
     assert (tmp_path / "None.csv").read_bytes() == base
 
 
+def test_an_installation_with_one_build_imports_it():
+    """A build from a checkout (``pip install ./python``) has no
+    x86-64-v3 module beside the baseline one: ``import geopid`` takes the
+    one there is (the wheel in CI has both, so the absence is simulated)."""
+    code = (
+        "import importlib.abc, sys\n"
+        "class Hide(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name == 'geopid._geopid_x86_64_v3':\n"
+        "            raise ModuleNotFoundError(f'No module named {name!r}', name=name)\n"
+        "        return None\n"
+        "sys.meta_path.insert(0, Hide())\n"
+        "import geopid\n"
+        "from geopid import _native\n"
+        "assert _native.ext is _native._baseline\n"
+        "print(geopid.instruction_set(), geopid.run('paper-flip', duration=0.1).t[-1])"
+    )
+    done = _in_fresh_interpreter(code)
+    assert done.returncode == 0, done.stderr[-800:]
+    assert done.stdout.split()[0] in ("baseline", "x86-64-v3")
+
+
 def test_a_wrong_instruction_set_request_is_refused_naming_the_variable():
     done = _in_fresh_interpreter("import geopid", instruction_set="avx9")
     assert done.returncode != 0

@@ -506,7 +506,7 @@ pub fn tune_gains(
     scene: &Scene,
     spec: &GainTuning,
     report: &mut dyn FnMut(&TuneStep<4>),
-) -> Result<(Scene, Vec<TuneStep<4>>), SimError> {
+) -> Result<GainsTuned, SimError> {
     if !(spec.factor.is_finite() && spec.factor >= 1.0) {
         return Err(SimError::Setting {
             field: "factor",
@@ -527,7 +527,26 @@ pub fn tune_gains(
         max_gradients: spec.max_gradients,
         max_thrust: spec.max_thrust,
     };
-    tune(registry, scene, &tune_spec, &mut cost, report)
+    let (tuned, history) = tune(registry, scene, &tune_spec, &mut cost, report)?;
+    let final_cost = plain_cost(registry, &tuned, spec.every, &mut cost)?;
+    Ok(GainsTuned {
+        scene: tuned,
+        history,
+        final_cost,
+    })
+}
+
+/// What [`tune_gains`] returns.
+#[derive(Clone, Debug)]
+pub struct GainsTuned {
+    /// The scene with the tuned gains.
+    pub scene: Scene,
+    /// One step per gradient evaluation, the starting gains' first.
+    pub history: Vec<TuneStep<4>>,
+    /// The tracking cost of `scene`, from a plain `f64` run: the cost the
+    /// tuning ends on, whose square root over the duration is the RMS
+    /// position error.
+    pub final_cost: f64,
 }
 
 /// The [`Tracking`] cost of `scene` sampled every `every` and its gradient

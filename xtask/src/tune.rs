@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use scenarios::sensitivity::{GainTuning, Tracking, plain_cost, tune_gains};
+use scenarios::sensitivity::{GainTuning, tune_gains};
 
 /// Options of `cargo xtask tune`.
 #[derive(clap::Args, Debug)]
@@ -43,7 +43,7 @@ pub fn tune(a: TuneArgs) -> Result<(), String> {
     println!("|---|---|---|---|---|---|---|---|");
     let started = std::time::Instant::now();
     let reg = scenarios::Registry::new();
-    let (tuned, history) = tune_gains(&reg, &scene, &spec, &mut |s| {
+    let out = tune_gains(&reg, &scene, &spec, &mut |s| {
         let [kx, kv, kr, kw] = s.values;
         println!(
             "| {} | {:.5} | {kx:.4} | {kv:.4} | {kr:.4} | {kw:.4} | {:.2} | {} |",
@@ -54,18 +54,17 @@ pub fn tune(a: TuneArgs) -> Result<(), String> {
         );
     })
     .map_err(|e| e.to_string())?;
-    let mut cost = Tracking::of(&scene, spec.every).map_err(|e| e.to_string())?;
-    let last = rmse(plain_cost(&reg, &tuned, spec.every, &mut cost).map_err(|e| e.to_string())?);
-    let first = rmse(history[0].cost);
+    let (first, last) = (rmse(out.history[0].cost), rmse(out.final_cost));
     println!(
         "{}: RMS position error {first:.5} m -> {last:.5} m ({:.2}x lower) in {} gradient evaluations, {:.1} s",
         scene.name,
         first / last,
-        history.len(),
+        out.history.len(),
         started.elapsed().as_secs_f64()
     );
     if let Some(path) = &a.out {
-        std::fs::write(path, tuned.to_toml()).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, out.scene.to_toml())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         println!("wrote {}", path.display());
     }
     Ok(())
