@@ -73,6 +73,11 @@ const BIT: [u32; FEATURE_COUNT] = {
     b
 };
 
+/// Where x86-64-v3's features (avx, avx2, fma, bmi1, bmi2, f16c, lzcnt,
+/// movbe) sit in [`COMPILED_FEATURES`] (a test checks the names).
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+const V3: core::ops::Range<usize> = 5..13;
+
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 const COMPILED_FEATURES: [(&str, bool); FEATURE_COUNT] = [
     ("sse3", cfg!(target_feature = "sse3")),
@@ -165,8 +170,7 @@ unsafe fn xgetbv0() -> u64 {
 pub fn cpu_has_x86_64_v3() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
-        // avx, avx2, fma, bmi1, bmi2, f16c, lzcnt, movbe.
-        cpu_features()[5..13].iter().all(|&present| present)
+        cpu_features()[V3].iter().all(|&present| present)
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -268,6 +272,13 @@ mod tests {
             // What cpuid reports agrees with std's detection on every
             // feature this build was *not* compiled with (for those it was,
             // std answers from the build flags, without asking).
+            let v3: Vec<&str> = COMPILED_FEATURES[V3].iter().map(|f| f.0).collect();
+            assert_eq!(
+                v3,
+                [
+                    "avx", "avx2", "fma", "bmi1", "bmi2", "f16c", "lzcnt", "movbe"
+                ]
+            );
             let have = cpu_features();
             assert!(have[0] && have[1] && have[2] && have[3] && have[4] || !cpu_has_x86_64_v3());
             assert_eq!(have[6], std::is_x86_feature_detected!("avx2"));

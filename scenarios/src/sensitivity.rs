@@ -365,7 +365,8 @@ pub struct TuneSpec<'p, const K: usize> {
 /// diverges ([`SimError::is_divergence`]) or commands more than
 /// `spec.max_thrust` counts as a rise in cost: the search halves the step.
 /// `report` sees each iteration. Returns the scene with the best parameters
-/// found and the iterations.
+/// found, the iterations and that scene's cost (from the run that accepted
+/// it: no run is flown twice).
 ///
 /// Errors: a bound not `0 < lo ≤ value ≤ hi` or a parameter without a
 /// scene number (`initial.attitude[k]`), naming it; a starting flight above
@@ -377,7 +378,7 @@ pub fn tune<const K: usize, C: Cost>(
     spec: &TuneSpec<'_, K>,
     cost: &mut C,
     mut report: impl FnMut(&TuneStep<K>),
-) -> Result<(Scene, Vec<TuneStep<K>>), SimError> {
+) -> Result<Tuned<K>, SimError> {
     let TuneSpec {
         params,
         bounds,
@@ -410,7 +411,7 @@ pub fn tune<const K: usize, C: Cost>(
         }
         s
     };
-    let (_, mut thrust) = plain_flight(registry, &best, every, cost)?;
+    let (mut best_cost, mut thrust) = plain_flight(registry, &best, every, cost)?;
     let within = |f: f64| max_thrust.is_none_or(|limit| f <= limit);
     if !within(thrust) {
         return Err(SimError::Setting {
@@ -448,7 +449,7 @@ pub fn tune<const K: usize, C: Cost>(
             step.plain_runs += 1;
             match plain_flight(registry, &with(&trial), every, cost) {
                 Ok((c, f)) if c <= g.value - 1e-4 * moved && moved > 0.0 && within(f) => {
-                    accepted = Some((trial, f));
+                    accepted = Some((trial, c, f));
                     break;
                 }
                 Ok(_) => {}
@@ -457,7 +458,7 @@ pub fn tune<const K: usize, C: Cost>(
             }
             a *= 0.5;
         }
-        let Some((trial, f)) = accepted else {
+        let Some((trial, c, f)) = accepted else {
             report(&step);
             history.push(step);
             break;
@@ -466,12 +467,17 @@ pub fn tune<const K: usize, C: Cost>(
         report(&step);
         history.push(step);
         x = trial;
+        best_cost = c;
         thrust = f;
         best = with(&x);
         // Try a longer step next time: the search only ever halves.
         alpha = Some(2.0 * a);
     }
-    Ok((best, history))
+    Ok(Tuned {
+        scene: best,
+        history,
+        final_cost: best_cost,
+    })
 }
 
 /// The gains [`tune_gains`] tunes: the position and attitude loops'
@@ -506,7 +512,7 @@ pub fn tune_gains(
     scene: &Scene,
     spec: &GainTuning,
     report: &mut dyn FnMut(&TuneStep<4>),
-) -> Result<GainsTuned, SimError> {
+) -> Result<Tuned<4>, SimError> {
     if !(spec.factor.is_finite() && spec.factor >= 1.0) {
         return Err(SimError::Setting {
             field: "factor",
@@ -527,25 +533,18 @@ pub fn tune_gains(
         max_gradients: spec.max_gradients,
         max_thrust: spec.max_thrust,
     };
-    let (tuned, history) = tune(registry, scene, &tune_spec, &mut cost, report)?;
-    let final_cost = plain_cost(registry, &tuned, spec.every, &mut cost)?;
-    Ok(GainsTuned {
-        scene: tuned,
-        history,
-        final_cost,
-    })
+    tune(registry, scene, &tune_spec, &mut cost, report)
 }
 
-/// What [`tune_gains`] returns.
+/// What [`tune`] returns ([`tune_gains`]: with `K = 4`).
 #[derive(Clone, Debug)]
-pub struct GainsTuned {
-    /// The scene with the tuned gains.
+pub struct Tuned<const K: usize> {
+    /// The scene with the tuned parameters.
     pub scene: Scene,
-    /// One step per gradient evaluation, the starting gains' first.
-    pub history: Vec<TuneStep<4>>,
-    /// The tracking cost of `scene`, from a plain `f64` run: the cost the
-    /// tuning ends on, whose square root over the duration is the RMS
-    /// position error.
+    /// One step per gradient evaluation, the starting parameters' first.
+    pub history: Vec<TuneStep<K>>,
+    /// The cost of `scene` (a plain `f64` run); for [`Tracking`], its
+    /// square root over the duration is the RMS position error.
     pub final_cost: f64,
 }
 

@@ -211,7 +211,11 @@ fn tuning_the_gains_lowers_the_tracking_cost() {
         max_gradients: 10,
         max_thrust: None,
     };
-    let (tuned, history) = sensitivity::tune(&reg, &scene, &spec, &mut cost, |s| {
+    let sensitivity::Tuned {
+        scene: tuned,
+        history,
+        ..
+    } = sensitivity::tune(&reg, &scene, &spec, &mut cost, |s| {
         println!(
             "iteration {}: cost {:.6e}, gains {:?}, step {:.2e}, {} plain runs",
             s.iteration, s.cost, s.values, s.step, s.plain_runs
