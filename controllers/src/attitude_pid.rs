@@ -135,7 +135,10 @@ pub fn attitude_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     // exact zeros.
     let (jw, jwd) = match lie::ops::diagonal::<B>(params.inertia) {
         Some(d) => (cmul::<B>(d, w), cmul::<B>(d, wd)),
-        None => (params.inertia * w, params.inertia * wd),
+        None => (
+            B::mat3_mul_vec(params.inertia, w),
+            B::mat3_mul_vec(params.inertia, wd),
+        ),
     };
     let moment =
         -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
@@ -171,8 +174,8 @@ pub(crate) fn attitude_core_reference<B: Backend, R: Rotation<B>>(
     let j = params.inertia;
     let moment =
         -cmul::<B>(gains.k_r, e_r) - cmul::<B>(gains.k_omega, e_w) - cmul::<B>(gains.k_i, e_i)
-            + B::cross(w, j * w)
-            + j * wd;
+            + B::cross(w, B::mat3_mul_vec(j, w))
+            + B::mat3_mul_vec(j, wd);
     AttitudeOutput {
         moment,
         e_r,

@@ -404,7 +404,7 @@ pub fn kinetic_energy<B: Backend>(mass: S<B>, inertia: M3<B>, state: &RigidBodyS
 /// Spatial (inertial-frame) angular momentum `π = R J Ω`, constant for a
 /// torque-free body.
 pub fn spatial_angular_momentum<B: Backend>(inertia: M3<B>, state: &RigidBodyState<B>) -> V3<B> {
-    state.r * (inertia * state.omega)
+    B::mat3_mul_vec(state.r, B::mat3_mul_vec(inertia, state.omega))
 }
 
 /// Checks that `j` is a symmetric positive-definite inertia matrix (by its

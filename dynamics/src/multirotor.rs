@@ -334,7 +334,7 @@ impl<B: Backend> Multirotor<B> {
         let (fb, mb) = self.body_wrench(speeds, state.omega, airspeed);
         let z = S::<B>::zero();
         let mut l = Loads {
-            force: B::vec3(z, z, self.p.mass * self.p.gravity) + state.r * fb,
+            force: B::vec3(z, z, self.p.mass * self.p.gravity) + B::mat3_mul_vec(state.r, fb),
             moment: mb,
         };
         if let Some(d) = self.disturbance {

@@ -145,9 +145,9 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
     let eps = S::<B>::epsilon();
     let a_hat = hat::<B>(a);
     let id = ops::identity::<B>();
-    let g = |f: V3<B>| a + B::cross(a, f) + f * B::dot(a, f) - j * f * two;
+    let g = |f: V3<B>| a + B::cross(a, f) + f * B::dot(a, f) - B::mat3_mul_vec(j, f) * two;
     let mut f = match ops::inverse::<B>(j * two - a_hat) {
-        Some(m) => m * a,
+        Some(m) => B::mat3_mul_vec(m, a),
         None => {
             return Solve {
                 f: a,
@@ -170,7 +170,7 @@ pub(crate) fn solve_cayley<B: Backend>(j: M3<B>, a: V3<B>, max_iter: u32) -> Sol
         let Some(jinv) = ops::inverse::<B>(jacobian(f)) else {
             break;
         };
-        let df = jinv * g(f);
+        let df = B::mat3_mul_vec(jinv, g(f));
         f = f - df;
         let step = inf_norm::<B>(df);
         let scale = S::<B>::one() + inf_norm::<B>(f);
@@ -244,7 +244,7 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
             }
         };
         let b = &y.body;
-        let p = body.j * b.omega + l0.moment * half_h;
+        let p = B::mat3_mul_vec(body.j, b.omega) + l0.moment * half_h;
         let a = p * h;
         let sol = solve_cayley::<B>(body.j, a, self.max_newton);
         if sol.converged {
@@ -271,13 +271,15 @@ impl<B: Backend, const N: usize> Lgvi<B, N> {
         let d_mat = cayley_minus_identity::<B>(sol.f);
         let dtp = B::mat3_tr_mul_vec(d_mat, p);
         let mut next = *y;
-        next.body.r = b.r + b.r * d_mat;
+        next.body.r = b.r + B::mat3_mul(b.r, d_mat);
         if body.translates {
             next.body.x = b.x + b.v * h + l0.force * (h * half_h * body.inv_mass);
             next.body.v = b.v + l0.force * (h * body.inv_mass);
         }
         // JΩ_{k+1} = Fᵀp + h/2 M_{k+1} = JΩ_k + Dᵀp + h/2 (M_k + M_{k+1}).
-        let omega_from = |m_end: V3<B>| b.omega + body.j_inv * (dtp + (l0.moment + m_end) * half_h);
+        let omega_from = |m_end: V3<B>| {
+            b.omega + B::mat3_mul_vec(body.j_inv, dtp + (l0.moment + m_end) * half_h)
+        };
         next.body.omega = omega_from(l0.moment);
         for i in 0..N {
             next.extra[i] = y.extra[i] + h * l0.extra_rate[i];

@@ -43,14 +43,14 @@ impl<B: SimdBackend> Body<B> {
     /// `Ω̇ = J⁻¹(M − Ω × JΩ)`.
     #[inline(always)]
     pub fn omega_dot(&self, w: V3<B>, moment: V3<B>) -> V3<B> {
-        self.j_inv * (moment - B::cross(w, self.j * w))
+        B::mat3_mul_vec(self.j_inv, moment - B::cross(w, B::mat3_mul_vec(self.j, w)))
     }
 
     #[inline(always)]
     pub fn deriv<const N: usize>(&self, y: &State<B, N>, l: &Load<B, N>) -> Deriv<B, N> {
         let b = &y.body;
         Deriv {
-            r: b.r * hat::<B>(b.omega),
+            r: B::mat3_mul(b.r, hat::<B>(b.omega)),
             x: b.v,
             v: l.force * self.inv_mass,
             w: self.omega_dot(b.omega, l.moment),

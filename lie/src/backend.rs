@@ -99,6 +99,16 @@ macro_rules! inherent_primitives {
             ) -> $crate::V3<$name> {
                 <$name as $crate::SimdBackend>::mat3_tr_mul_vec(m, v)
             }
+            /// [`SimdBackend::mat3_mul_vec`](crate::SimdBackend::mat3_mul_vec).
+            #[inline(always)]
+            pub fn mat3_mul_vec(m: $crate::M3<$name>, v: $crate::V3<$name>) -> $crate::V3<$name> {
+                <$name as $crate::SimdBackend>::mat3_mul_vec(m, v)
+            }
+            /// [`SimdBackend::mat3_mul`](crate::SimdBackend::mat3_mul).
+            #[inline(always)]
+            pub fn mat3_mul(a: $crate::M3<$name>, b: $crate::M3<$name>) -> $crate::M3<$name> {
+                <$name as $crate::SimdBackend>::mat3_mul(a, b)
+            }
             /// [`SimdBackend::quat_from_wxyz`](crate::SimdBackend::quat_from_wxyz).
             #[inline(always)]
             pub fn quat_from_wxyz(
@@ -197,6 +207,23 @@ pub trait SimdBackend: Copy + Clone + Default + Debug + PartialEq + Send + Sync 
     fn mat3_transpose(m: Self::Mat3) -> Self::Mat3;
     /// The transpose times a vector, `mᵀ v`, without forming `mᵀ`.
     fn mat3_tr_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3;
+    /// The product `m v`: the matrix type's own `*`, except on the dual
+    /// backend, which writes the three column combinations out in
+    /// nalgebra's own order (the same result bit for bit): nalgebra's
+    /// operator goes through its generic BLAS loop, which the optimiser
+    /// inlines for `f32`/`f64` but leaves out of line for a scalar as wide
+    /// as the dual number, with three products per term instead of one (its
+    /// `α = 1` and `β` factors). Hot paths call this rather than `*`.
+    #[inline(always)]
+    fn mat3_mul_vec(m: Self::Mat3, v: Self::Vec3) -> Self::Vec3 {
+        m * v
+    }
+    /// The product `a b` ([`SimdBackend::mat3_mul_vec`] column by column on
+    /// the dual backend, for the same reason).
+    #[inline(always)]
+    fn mat3_mul(a: Self::Mat3, b: Self::Mat3) -> Self::Mat3 {
+        a * b
+    }
     /// Builds a quaternion `w + x i + y j + z k`.
     fn quat_from_wxyz(
         w: Self::Scalar,

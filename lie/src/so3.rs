@@ -238,7 +238,7 @@ impl<B: SimdBackend> So3Mat<B> {
     /// `self ∘ rhs` (apply `rhs` first).
     #[inline]
     pub fn compose(self, rhs: Self) -> Self {
-        Self(self.0 * rhs.0)
+        Self(B::mat3_mul(self.0, rhs.0))
     }
     /// The inverse rotation.
     #[inline]
@@ -248,7 +248,7 @@ impl<B: SimdBackend> So3Mat<B> {
     /// `R v`.
     #[inline]
     pub fn act(self, v: V3<B>) -> V3<B> {
-        self.0 * v
+        B::mat3_mul_vec(self.0, v)
     }
     /// `exp(φ^) = cos θ I + (sin θ/θ) φ^ + ((1 − cos θ)/θ²) φ φᵀ` (Rodrigues).
     #[inline]
@@ -344,7 +344,7 @@ impl<B: Backend> Rotation<B> for So3Mat<B> {
     }
     #[inline]
     fn e_r(self, rd: Self) -> V3<B> {
-        vee::<B>(B::mat3_transpose(rd.0) * self.0)
+        vee::<B>(B::mat3_mul(B::mat3_transpose(rd.0), self.0))
     }
     #[inline]
     fn orthogonality_error(self) -> S<B> {

