@@ -269,8 +269,10 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Dopri<B> {
 /// [`Dopri`]'s error norm, one function for one lane and many (the scalar
 /// and the lane stepper's): the RMS over all components of
 /// `err_i / (atol + rtol·max(|y_i|, |y_new_i|))` (`x`, `v` only when the
-/// body translates), lane by lane on a lane backend: each lane's step is
-/// judged on its own components alone.
+/// body translates; the extra slots the system uses, not the idle ones,
+/// whose zeros would dilute the mean and lengthen the steps), lane by lane
+/// on a lane backend: each lane's step is judged on its own components
+/// alone.
 #[inline(always)]
 pub(crate) fn error_norm<B: SimdBackend, const N: usize>(
     atol: S<B>,
@@ -311,7 +313,7 @@ pub(crate) fn error_norm<B: SimdBackend, const N: usize>(
         vecs(y.body.x, next.body.x, err.body.x);
         vecs(y.body.v, next.body.v, err.body.v);
     }
-    for i in 0..N {
+    for i in 0..body.extra_in_use.min(N) {
         add(err.extra[i], y.extra[i], next.extra[i]);
     }
     (sum / S::<B>::simd_lit(count as f64)).simd_sqrt()

@@ -48,6 +48,10 @@ pub trait LaneSystem<B: SimdBackend, const N: usize> {
     fn load_depends_on_rates(&self) -> bool {
         true
     }
+    /// As [`crate::System::extra_in_use`].
+    fn extra_in_use(&self) -> usize {
+        N
+    }
     /// Loads at time `t` (per lane) and state `y`.
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N>;
 }
@@ -58,6 +62,7 @@ fn body<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(sys: &Sy
         j_inv: sys.inertia_inv(),
         inv_mass: S::<B>::one() / sys.mass(),
         translates: sys.translates(),
+        extra_in_use: sys.extra_in_use().min(N),
     }
 }
 

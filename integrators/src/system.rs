@@ -129,6 +129,13 @@ pub trait System<B: Backend, const N: usize> {
     fn load_depends_on_rates(&self) -> bool {
         true
     }
+    /// How many of the `N` extra slots hold states (the first ones; the
+    /// rest stay zero). Dormand–Prince's error norm averages over these
+    /// only, so a system's steps do not depend on how many idle slots its
+    /// state type carries. The default is all `N`.
+    fn extra_in_use(&self) -> usize {
+        N
+    }
     /// Loads at time `t` and state `y`.
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N>;
 }

@@ -217,6 +217,10 @@ impl<L: SimdBackend> LaneSystem<L, 6> for AttitudeLoop<L> {
     fn translates(&self) -> bool {
         false
     }
+    /// `e_I` alone, as the scalar attitude mode's register.
+    fn extra_in_use(&self) -> usize {
+        3
+    }
     #[inline(always)]
     fn load(&mut self, _t: S<L>, y: &State<L, 6>) -> Load<L, 6> {
         let [a0, a1, a2, ..] = y.extra;

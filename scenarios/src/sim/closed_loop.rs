@@ -364,6 +364,10 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
     fn translates(&self) -> bool {
         self.vehicle.translates()
     }
+    /// The plan's integrals and the vehicle's states.
+    fn extra_in_use(&self) -> usize {
+        self.m + self.nv
+    }
     fn load_depends_on_rates(&self) -> bool {
         (!self.plan.is_empty() && !self.sampled)
             || self.nv > 0
