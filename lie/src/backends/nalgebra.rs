@@ -54,7 +54,8 @@ macro_rules! nalgebra_primitives {
 /// optimiser inlines for `f32`/`f64` but leaves out of line for a scalar as
 /// wide as a dual number, with three products per term instead of one (the
 /// `α = 1` and `β` factors of `gemv`). Measured on the paper-flip gradient
-/// with 12 directions: 14 % fewer instructions, 10 % less time.
+/// with 12 directions: 14.6 % fewer instructions; 7 % less time built for
+/// x86-64-v3, 15 % with AVX-512, none measurable on the baseline build.
 #[cfg(feature = "dual")]
 macro_rules! explicit_products {
     ($s:ty) => {
