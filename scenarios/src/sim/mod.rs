@@ -21,7 +21,10 @@
 //! integral register (`m` = the largest [`Mode::integral_count`] of the
 //! plan; the paper's modes use `[e_I, e_i]`, so `m = 6`), slots `m..m + n`
 //! the vehicle's internal states (`n` = [`Vehicle::state_count`]); the rest
-//! stay zero. A plan and vehicle that need more than `N` are a
+//! stay zero and change nothing: a run with more slots than it needs takes
+//! the same steps to the same state, bit for bit (Dormand–Prince's error
+//! norm reads the slots in use only), so a larger `N` costs memory and
+//! time, never results. A plan and vehicle that need more than `N` are a
 //! [`SimError::Layout`] naming both counts.
 
 mod builder;
