@@ -62,7 +62,7 @@ fn body<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(sys: &Sy
         j_inv: sys.inertia_inv(),
         inv_mass: S::<B>::one() / sys.mass(),
         translates: sys.translates(),
-        extra_in_use: sys.extra_in_use().min(N),
+        extra_in_use: sys.extra_in_use(),
     }
 }
 

@@ -26,7 +26,8 @@ pub(crate) struct Body<B: SimdBackend> {
     pub j_inv: M3<B>,
     pub inv_mass: S<B>,
     pub translates: bool,
-    /// The extra slots in use ([`System::extra_in_use`]).
+    /// The extra slots in use ([`System::extra_in_use`]; the error norm
+    /// clamps it to `N` where it reads it).
     pub extra_in_use: usize,
 }
 
@@ -37,7 +38,7 @@ impl<B: Backend> Body<B> {
             j_inv: sys.inertia_inv(),
             inv_mass: S::<B>::lit(1.0) / sys.mass(),
             translates: sys.translates(),
-            extra_in_use: sys.extra_in_use().min(N),
+            extra_in_use: sys.extra_in_use(),
         }
     }
 }
