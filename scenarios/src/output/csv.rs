@@ -2,7 +2,7 @@
 //! round-trip form, formatted and written on a thread of its own.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::*;
@@ -80,31 +80,39 @@ struct CsvBatch {
 /// Rows per batch handed to the CSV thread.
 const CSV_BATCH: usize = 4096;
 
+/// Bytes gathered before each write to the file.
+const CSV_CHUNK: usize = 1 << 20;
+
 /// The CSV thread: the header at the first batch (whose width tells the
-/// vehicle's state count), then whole rows.
-fn write_csv_batches(
-    mut w: BufWriter<File>,
-    (rx, back): WorkerEnds<CsvBatch>,
-) -> std::io::Result<BufWriter<File>> {
+/// vehicle's state count), then whole rows. Rows are formatted straight
+/// into the buffer that goes to the file, written in pieces of about
+/// [`CSV_CHUNK`] bytes that each end with a whole row (through a
+/// `BufWriter`, each row was copied once more: 0.6 % of the instructions
+/// of a CSV-only run at 1 kHz, 2 % of this thread's).
+fn write_csv_batches(mut file: File, (rx, back): WorkerEnds<CsvBatch>) -> std::io::Result<File> {
     let mut header = false;
-    let mut row = Vec::with_capacity(1024);
+    let mut out = Vec::with_capacity(CSV_CHUNK + 4096);
     for mut b in rx {
         if !header {
             header = true;
-            writeln!(w, "{}", csv_header(b.width - CSV_FIXED))?;
+            out.extend_from_slice(csv_header(b.width - CSV_FIXED).as_bytes());
+            out.push(b'\n');
         }
         for (nums, mode) in b.nums.chunks_exact(b.width).zip(&b.modes) {
-            row.clear();
-            push_csv_row_from(&mut row, nums, mode);
-            row.push(b'\n');
-            w.write_all(&row)?;
+            push_csv_row_from(&mut out, nums, mode);
+            out.push(b'\n');
+            if out.len() >= CSV_CHUNK {
+                file.write_all(&out)?;
+                out.clear();
+            }
         }
         b.nums.clear();
         b.modes.clear();
         // The writer gone (its run failed) needs no buffers back.
         let _ = back.send(b);
     }
-    Ok(w)
+    file.write_all(&out)?;
+    Ok(file)
 }
 
 /// Streams samples to a CSV file (the header comes with the first sample,
@@ -120,7 +128,7 @@ pub struct CsvWriter {
     target: Target,
     batch: CsvBatch,
     rows: u64,
-    worker: Worker<CsvBatch, BufWriter<File>>,
+    worker: Worker<CsvBatch, File>,
 }
 
 impl CsvWriter {
@@ -128,10 +136,9 @@ impl CsvWriter {
     /// written in place) and starts the writer thread.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let (target, f) = Target::open(path)?;
-        let w = BufWriter::with_capacity(1 << 20, f);
         let csv_path = path.to_path_buf();
         let worker = Worker::spawn(path, "csv-writer", move |ends| {
-            write_csv_batches(w, ends).map_err(|e| err_io(&csv_path, &e))
+            write_csv_batches(f, ends).map_err(|e| err_io(&csv_path, &e))
         })?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -173,8 +180,7 @@ impl CsvWriter {
             self.batch.width = CSV_FIXED;
         }
         self.send()?;
-        let w = self.worker.join()?;
-        let f = w.into_inner().map_err(|e| err_io(&self.path, e.error()))?;
+        let f = self.worker.join()?;
         self.target.commit(&f, &self.path)?;
         Ok(self.rows)
     }
