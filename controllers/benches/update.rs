@@ -142,6 +142,7 @@ fn hand_benches(c: &mut Criterion) {
                 "{} Ω̇_c",
                 $name
             );
+            assert!(((o.psi - g.psi) as f64).abs() < tol, "{} Ψ", $name);
             c.benchmark_group("position")
                 .bench_function(concat!($name, "-hand"), |b| {
                     b.iter(|| {

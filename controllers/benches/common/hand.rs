@@ -58,7 +58,11 @@ macro_rules! hand {
                         e.z_axis.x - e.x_axis.z,
                         e.x_axis.y - e.y_axis.x,
                     );
-                let psi = 0.5 * (3.0 - (e.x_axis.x + e.y_axis.y + e.z_axis.z));
+                // Ψ = ¼‖E − I‖², as the generic law computes it (never
+                // negative, no cancellation near I), not ½(3 − tr E).
+                let d = e - <$mat>::IDENTITY;
+                let psi = 0.25
+                    * (d.x_axis.dot(d.x_axis) + d.y_axis.dot(d.y_axis) + d.z_axis.dot(d.z_axis));
                 let wb = e.transpose() * wd;
                 let wdb = e.transpose() * wdd;
                 let ew = w - wb;
