@@ -68,6 +68,7 @@ pub mod dense;
 mod dopri;
 pub mod lanes;
 mod lgvi;
+mod method;
 pub mod problems;
 mod rk;
 mod stepper;
@@ -75,6 +76,7 @@ mod system;
 
 pub use dopri::Dopri;
 pub use lgvi::{EndLoad, Lgvi};
+pub use method::Method;
 pub use rk::{Euler, Rk4, Rkmk4};
 pub use stepper::{IntegratorKind, Stepper, StepperConfig, UnknownIntegrator};
 pub use system::{Load, State, System, inverse_or_nan};

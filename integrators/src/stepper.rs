@@ -95,9 +95,12 @@ impl Default for StepperConfig {
     }
 }
 
-/// Any stepper, chosen at run time.
+/// Any stepper, chosen at run time, for `N` extra states. Handed to a
+/// simulation, which sizes its state itself, it is a [`Method`](crate::Method)
+/// whose `N` does not matter: `Stepper::<B>::new(kind, config)` (`N` = 0)
+/// says the kind and the settings.
 #[derive(Clone, Debug)]
-pub enum Stepper<B: Backend, const N: usize> {
+pub enum Stepper<B: Backend, const N: usize = 0> {
     /// See [`Lgvi`].
     Lgvi(Lgvi<B, N>),
     /// See [`Rk4`] (with or without projection).

@@ -25,11 +25,7 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     g.bench_function("f64-run", |b| {
         b.iter(|| {
-            let mut sim = reg
-                .builder::<NalgebraF64, 6>(&scene)
-                .unwrap()
-                .build()
-                .unwrap();
+            let mut sim = reg.builder::<NalgebraF64>(&scene).unwrap().build().unwrap();
             sim.advance_to(scene.duration).unwrap();
             black_box(sim.state().body.x);
         })

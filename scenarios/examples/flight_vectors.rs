@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .position
         .clone()
         .ok_or("plan[1] has no position")?;
-    let mut sim = Registry::new().builder::<GlamF32, 6>(&scene)?.build()?;
+    let mut sim = Registry::new().builder::<GlamF32>(&scene)?.build()?;
     let steps = (scene.duration / SPACING).round() as usize;
     let mut bytes = Vec::new();
     for k in 0..=steps {

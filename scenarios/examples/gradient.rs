@@ -8,7 +8,7 @@ use lie::{Dual, NalgebraF64};
 use scenarios::{Registry, Scene, SimError, builtin, sensitivity};
 
 fn final_height(scene: &Scene) -> Result<f64, SimError> {
-    let mut sim = Registry::new().builder::<NalgebraF64, 6>(scene)?.build()?;
+    let mut sim = Registry::new().builder::<NalgebraF64>(scene)?.build()?;
     sim.advance_to(scene.duration)?;
     Ok(sim.state().body.x[2])
 }

@@ -52,7 +52,7 @@ fn run(scene: Scene, indices: &[u64]) -> Result<Summary, SimError> {
                 hover[1] + d.offset[1],
                 hover[2] + d.offset[2],
             );
-            let mut b = Simulation::<B, 16>::builder(vehicle)
+            let mut b = Simulation::<B>::builder(vehicle)
                 .initial(start)
                 .dt(1e-3)
                 .duration(20.0)

@@ -34,7 +34,7 @@ pub struct StateF64 {
     pub mode: &'static str,
 }
 
-/// What [`SceneSimulation`] needs of a `Simulation<B, N>`.
+/// What [`SceneSimulation`] needs of a `Simulation<B>`.
 trait Stepping {
     fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError>;
     fn state(&self) -> StateF64;
@@ -57,7 +57,7 @@ fn finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
     }
 }
 
-impl<B: Backend, const N: usize> Stepping for Simulation<'static, B, N> {
+impl<B: Backend> Stepping for Simulation<'static, B> {
     fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
         Simulation::advance_to_with(self, t, opts)
     }
@@ -274,19 +274,12 @@ impl Registry {
             position: Option<&PositionFn>,
         ) -> Result<Box<dyn Stepping>, SimError> {
             r.check(scene)?;
-            let (vehicle, plan, capacity) = r.parts::<B>(scene, position, Seeds::NONE)?;
-            Ok(match capacity {
-                6 => Box::new(
-                    builder_from::<B, 6>(scene, vehicle, plan, Seeds::NONE)?
-                        .guard(guard)
-                        .build()?,
-                ),
-                _ => Box::new(
-                    builder_from::<B, 16>(scene, vehicle, plan, Seeds::NONE)?
-                        .guard(guard)
-                        .build()?,
-                ),
-            })
+            let (vehicle, plan) = r.parts::<B>(scene, position, Seeds::NONE)?;
+            Ok(Box::new(
+                builder_from::<B>(scene, vehicle, plan, Seeds::NONE)?
+                    .guard(guard)
+                    .build()?,
+            ))
         }
         let inner = match (scene.scalar, scene.backend) {
             (Scalar::F64, BackendKind::Nalgebra) => {

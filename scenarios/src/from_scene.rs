@@ -291,20 +291,18 @@ impl Registry {
         }
     }
 
-    /// The simulation of `scene` on backend `B` with `N` extra states,
-    /// ready to change (a guard, a stop condition, another integrator) and
-    /// build: what [`Registry::run`] runs, for a caller that steps it
-    /// ([`Simulation::advance_to`]). `N` must hold the plan's integral
-    /// slots and the vehicle's states (6 for the paper's modes on a
-    /// vehicle without states), else [`SimError::Layout`].
-    pub fn builder<B: Backend, const N: usize>(
+    /// The simulation of `scene` on backend `B`, ready to change (a
+    /// guard, a stop condition, another integrator) and build: what
+    /// [`Registry::run`] runs, for a caller that steps it
+    /// ([`Simulation::advance_to`]).
+    pub fn builder<B: Backend>(
         &self,
         scene: &Scene,
-    ) -> Result<SimulationBuilder<'static, B, N>, SimError> {
+    ) -> Result<SimulationBuilder<'static, B>, SimError> {
         self.check(scene)?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
-        builder_from::<B, N>(scene, vehicle, plan, Seeds::NONE)
+        builder_from::<B>(scene, vehicle, plan, Seeds::NONE)
     }
 
     /// Runs `scene` on backend `B`.
@@ -314,11 +312,10 @@ impl Registry {
         opts: RunOptions<'_>,
     ) -> Result<RunOutput, SimError> {
         self.check(scene)?;
-        let (vehicle, plan, capacity) = self.parts::<B>(scene, None, Seeds::NONE)?;
-        match capacity {
-            6 => simulate::<B, 6>(scene, vehicle, plan, opts),
-            _ => simulate::<B, 16>(scene, vehicle, plan, opts),
-        }
+        let (vehicle, plan) = self.parts::<B>(scene, None, Seeds::NONE)?;
+        builder_from::<B>(scene, vehicle, plan, Seeds::NONE)?
+            .build()?
+            .run(opts)
     }
 
     /// `scene` validated, its vehicle kind built in or registered here.
@@ -329,8 +326,7 @@ impl Registry {
             .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))
     }
 
-    /// The vehicle and plan of a validated `scene`, and the extra-state
-    /// capacity `N` (6 or 16) they fit.
+    /// The vehicle and plan of a validated `scene`.
     pub(crate) fn parts<B: Backend>(
         &self,
         scene: &Scene,
@@ -339,56 +335,26 @@ impl Registry {
     ) -> Result<Parts<B>, SimError> {
         let vehicle = self.build_vehicle_seeded::<B>(scene, seeds)?;
         let plan = plan_with::<B>(scene, vehicle.as_ref(), position, seeds);
-        let integrals = plan
-            .iter()
-            .map(|s| s.mode.integral_count())
-            .max()
-            .unwrap_or(0);
-        // Scenes whose plan and vehicle fit the paper's six extra states
-        // run exactly as the paper's; a vehicle with internal states gets
-        // the next size up.
-        let capacity = match integrals + vehicle.state_count() {
-            0..=6 => 6,
-            7..=16 => 16,
-            _ => {
-                return Err(SimError::Layout {
-                    integrals,
-                    vehicle_states: vehicle.state_count(),
-                    capacity: 16,
-                });
-            }
-        };
-        Ok((vehicle, plan, capacity))
+        Ok((vehicle, plan))
     }
 }
 
-/// A scene's vehicle, plan and extra-state capacity.
-pub(crate) type Parts<B> = (Box<dyn Vehicle<B>>, Vec<Segment<'static, B>>, usize);
-
-fn simulate<B: Backend, const N: usize>(
-    scene: &Scene,
-    vehicle: Box<dyn Vehicle<B>>,
-    plan: Vec<Segment<'static, B>>,
-    opts: RunOptions<'_>,
-) -> Result<RunOutput, SimError> {
-    builder_from::<B, N>(scene, vehicle, plan, Seeds::NONE)?
-        .build()?
-        .run(opts)
-}
+/// A scene's vehicle and plan.
+pub(crate) type Parts<B> = (Box<dyn Vehicle<B>>, Vec<Segment<'static, B>>);
 
 /// The [`SimulationBuilder`] of `scene` with `vehicle` flying `plan`.
-pub(crate) fn builder_from<B: Backend, const N: usize>(
+pub(crate) fn builder_from<B: Backend>(
     scene: &Scene,
     vehicle: Box<dyn Vehicle<B>>,
     plan: Vec<Segment<'static, B>>,
     seeds: Seeds<'_>,
-) -> Result<SimulationBuilder<'static, B, N>, SimError> {
+) -> Result<SimulationBuilder<'static, B>, SimError> {
     let kind: integrators::IntegratorKind = scene
         .integrator
         .kind
         .parse()
         .map_err(SimError::Integrator)?;
-    let stepper = Stepper::<B, N>::new(
+    let stepper = Stepper::<B>::new(
         kind,
         StepperConfig {
             tol: scene.integrator.tol,
@@ -419,7 +385,7 @@ pub(crate) fn builder_from<B: Backend, const N: usize>(
         .is_none()
         .then(crate::scene::missing_format_note);
     let warning = format_note.into_iter().chain(tol_warning);
-    let mut b = Simulation::<B, N>::builder(vehicle)
+    let mut b = Simulation::<B>::builder(vehicle)
         .integrator(stepper)
         .initial(body)
         .dt(scene.integrator.dt)

@@ -87,9 +87,9 @@ pub use overrides::Overrides;
 pub use report::RunReport;
 pub use scene::{Scene, SceneError};
 pub use sim::{
-    Condition, Control, Divergence, DivergenceGuard, Health, OpenLoop, RunOptions, RunOutput,
-    Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, SwitchRecord,
-    Termination, Until,
+    CAPACITIES, Condition, Control, Divergence, DivergenceGuard, Health, OpenLoop, RunOptions,
+    RunOutput, Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder,
+    SwitchRecord, Termination, Until,
 };
 
 use lie::Backend;
@@ -100,12 +100,10 @@ pub fn run(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
     Registry::new().run(scene, opts)
 }
 
-/// The simulation of `scene` on backend `B` with `N` extra states, to
-/// build and step (built-in vehicle kinds; see [`Registry::builder`]).
-pub fn builder<B: Backend, const N: usize>(
-    scene: &Scene,
-) -> Result<SimulationBuilder<'static, B, N>, SimError> {
-    Registry::new().builder::<B, N>(scene)
+/// The simulation of `scene` on backend `B`, to build and step (built-in
+/// vehicle kinds; see [`Registry::builder`]).
+pub fn builder<B: Backend>(scene: &Scene) -> Result<SimulationBuilder<'static, B>, SimError> {
+    Registry::new().builder::<B>(scene)
 }
 
 /// Runs `scene` on backend `B` (built-in vehicle kinds).

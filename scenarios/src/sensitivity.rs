@@ -90,23 +90,14 @@ pub fn gradient<const K: usize>(
     }
     registry.check(scene)?;
     let s = Seeds::new(&seeds);
-    let (vehicle, plan, capacity) = registry.parts::<NalgebraDual<K>>(scene, None, s)?;
-    let total = match capacity {
-        6 => fly_dual(
-            builder_from::<_, 6>(scene, vehicle, plan, s)?.build()?,
-            scene.duration,
-            every,
-            &seeds,
-            &mut cost,
-        ),
-        _ => fly_dual(
-            builder_from::<_, 16>(scene, vehicle, plan, s)?.build()?,
-            scene.duration,
-            every,
-            &seeds,
-            &mut cost,
-        ),
-    }?;
+    let (vehicle, plan) = registry.parts::<NalgebraDual<K>>(scene, None, s)?;
+    let total = fly_dual(
+        builder_from(scene, vehicle, plan, s)?.build()?,
+        scene.duration,
+        every,
+        &seeds,
+        &mut cost,
+    )?;
     Ok(Gradient {
         parameters: seeds.map(String::from),
         value: total.re,
@@ -116,8 +107,8 @@ pub fn gradient<const K: usize>(
 
 /// Runs `sim` to `duration`, calling `at` at `every, 2·every, …` and at
 /// the duration.
-fn fly<B: Backend, const N: usize>(
-    mut sim: Simulation<'static, B, N>,
+fn fly<B: Backend>(
+    mut sim: Simulation<'static, B>,
     duration: f64,
     every: f64,
     mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), SimError>,
@@ -136,8 +127,8 @@ fn fly<B: Backend, const N: usize>(
 
 /// [`fly`] on duals: the cost summed, the derivatives checked at each
 /// instant.
-fn fly_dual<const K: usize, const N: usize>(
-    sim: Simulation<'static, NalgebraDual<K>, N>,
+fn fly_dual<const K: usize>(
+    sim: Simulation<'static, NalgebraDual<K>>,
     duration: f64,
     every: f64,
     seeds: &[&str; K],
@@ -295,26 +286,18 @@ fn plain_flight<C: Cost>(
     cost: &mut C,
 ) -> Result<(f64, f64), SimError> {
     registry.check(scene)?;
-    let (vehicle, plan, capacity) = registry.parts::<NalgebraF64>(scene, None, Seeds::NONE)?;
+    let (vehicle, plan) = registry.parts::<NalgebraF64>(scene, None, Seeds::NONE)?;
     let mut total = 0.0;
     let mut add = |t: f64, s: &SimState<'_, NalgebraF64>| {
         total += cost.at(t, s);
         Ok(())
     };
-    let max_thrust = match capacity {
-        6 => fly(
-            builder_from::<_, 6>(scene, vehicle, plan, Seeds::NONE)?.build()?,
-            scene.duration,
-            every,
-            &mut add,
-        ),
-        _ => fly(
-            builder_from::<_, 16>(scene, vehicle, plan, Seeds::NONE)?.build()?,
-            scene.duration,
-            every,
-            &mut add,
-        ),
-    }?;
+    let max_thrust = fly(
+        builder_from(scene, vehicle, plan, Seeds::NONE)?.build()?,
+        scene.duration,
+        every,
+        &mut add,
+    )?;
     Ok((total, max_thrust))
 }
 

@@ -9,9 +9,9 @@
 #[path = "../examples/custom_vehicle/lagged.rs"]
 mod lagged;
 
-use dynamics::Quadrotor;
+use dynamics::{DynamicsError, Quadrotor, Vehicle, Wrench};
 use lagged::LaggedQuadrotor;
-use lie::NalgebraF64;
+use lie::{M3, NalgebraF64};
 use scenarios::metrics::{max_difference, nan_max};
 use scenarios::output::{csv_header, write_csv, write_mcap};
 use scenarios::{RunOutput, SimError, Simulation, builtin};
@@ -32,7 +32,7 @@ fn flip(tau: f64, dt: f64) -> RunOutput {
 fn fly(v: LaggedQuadrotor<B>, dt: f64) -> RunOutput {
     let scene = builtin::paper_flip();
     let plan = scenarios::plan::<B>(&scene, &v);
-    let mut sim = Simulation::<B, 10>::builder(Box::new(v))
+    let mut sim = Simulation::<B>::builder(Box::new(v))
         .dt(dt)
         .duration(scene.duration)
         .record_every(0.01);
@@ -136,23 +136,70 @@ fn rotor_states_are_integrated_and_logged() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn a_layout_too_small_is_an_error_naming_the_counts() {
-    let scene = builtin::paper_flip();
-    let v = vehicle(0.02);
-    let plan = scenarios::plan::<B>(&scene, &v);
-    let mut sim = Simulation::<B>::builder(Box::new(v));
-    for s in plan {
-        sim = sim.segment(s);
+/// The lagged quadrotor with more internal states than any simulation
+/// holds (the extra ones idle), to test the layout's limit.
+struct ManyStates(LaggedQuadrotor<B>);
+
+impl Vehicle<B> for ManyStates {
+    fn name(&self) -> &str {
+        "many-states"
     }
-    match sim.build() {
-        Err(e @ SimError::Layout { .. }) => {
+    fn mass(&self) -> f64 {
+        self.0.mass()
+    }
+    fn inertia(&self) -> M3<B> {
+        self.0.inertia()
+    }
+    fn gravity(&self) -> f64 {
+        self.0.gravity()
+    }
+    fn actuator_count(&self) -> usize {
+        self.0.actuator_count()
+    }
+    fn wrench_from_actuators(&self, u: &[f64]) -> Result<Wrench<B>, DynamicsError> {
+        self.0.wrench_from_actuators(u)
+    }
+    fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [f64]) -> Result<(), DynamicsError> {
+        self.0.actuators_from_wrench(w, out)
+    }
+    fn state_count(&self) -> usize {
+        11
+    }
+}
+
+/// The simulation sizes its state for the plan and the vehicle: the
+/// paper's six integrals and the lag's four rotor states build without
+/// the user naming a size, and a vehicle declaring more than the largest
+/// size holds is an error naming both counts.
+#[test]
+fn the_state_is_sized_for_the_plan_and_the_vehicle() {
+    let scene = builtin::paper_flip();
+    let build = |v: Box<dyn Vehicle<B>>| {
+        let plan = scenarios::plan::<B>(&scene, v.as_ref());
+        let mut sim = Simulation::<B>::builder(v);
+        for s in plan {
+            sim = sim.segment(s);
+        }
+        sim.build()
+    };
+    let sim = build(Box::new(vehicle(0.02))).unwrap();
+    assert_eq!(sim.layout(), (6, 4));
+    assert_eq!(sim.state().vehicle_states.len(), 4);
+    let largest = *scenarios::CAPACITIES.last().unwrap();
+    match build(Box::new(ManyStates(vehicle(0.02)))) {
+        Err(
+            e @ SimError::Layout {
+                integrals: 6,
+                vehicle_states: 11,
+                ..
+            },
+        ) => {
             let msg = e.to_string();
-            assert!(msg.contains("6 integral states") && msg.contains("4 internal states"));
-            assert!(msg.contains("Simulation::<B, 10>"), "{msg}");
+            assert!(msg.contains("6 integral states") && msg.contains("11 internal states"));
+            assert!(msg.contains(&format!("at most {largest}")), "{msg}");
         }
         Err(e) => panic!("wrong error {e}"),
-        Ok(_) => panic!("N = 6 cannot hold 10 states"),
+        Ok(_) => panic!("{largest} slots cannot hold 17 states"),
     }
 }
 

@@ -61,7 +61,7 @@ fn cost<B: Backend>(s: &SimState<'_, B>) -> S<B> {
 
 fn f64_cost(scene: &Scene) -> f64 {
     let mut sim = Registry::new()
-        .builder::<NalgebraF64, 6>(scene)
+        .builder::<NalgebraF64>(scene)
         .unwrap()
         .build()
         .unwrap();
@@ -105,11 +105,7 @@ fn psi_switch_gradient_equals_central_differences() {
     scene.duration = 3.0;
     let g = sensitivity::gradient(&reg, &scene, seeds(), scene.duration, |_, s| cost(s)).unwrap();
     assert_eq!(g.value.to_bits(), f64_cost(&scene).to_bits(), "value");
-    let mut sim = reg
-        .builder::<NalgebraF64, 6>(&scene)
-        .unwrap()
-        .build()
-        .unwrap();
+    let mut sim = reg.builder::<NalgebraF64>(&scene).unwrap().build().unwrap();
     sim.advance_to(scene.duration).unwrap();
     let switches = sim.finish().unwrap().switches;
     assert!(switches.len() == 1 && switches[0].t > 0.3, "{switches:?}");
@@ -127,11 +123,7 @@ fn paper_flip_real_part_is_the_f64_run_on_every_stepper() {
     for kind in ["lgvi", "rk4", "rk4-projected", "rkmk4", "euler", "dopri"] {
         let mut scene = builtin::paper_flip();
         scene.integrator.kind = kind.into();
-        let mut a = reg
-            .builder::<NalgebraF64, 6>(&scene)
-            .unwrap()
-            .build()
-            .unwrap();
+        let mut a = reg.builder::<NalgebraF64>(&scene).unwrap().build().unwrap();
         a.advance_to(scene.duration).unwrap();
         let mut last = None;
         sensitivity::gradient(&reg, &scene, seeds(), scene.duration, |_, s| {
@@ -315,16 +307,24 @@ impl<const N: usize> integrators::Integrator<NalgebraF64, N> for Logged {
     }
 }
 
+/// A simulation sizes its state itself; the log goes with every size.
+impl integrators::Method<NalgebraF64> for Logged {
+    type For<const N: usize> = Logged;
+    fn for_slots<const N: usize>(&self) -> Logged {
+        Logged(self.0.clone(), self.1.clone())
+    }
+}
+
 /// The tracking cost of `scene` flown by `stepper`, summed as
 /// `sensitivity::gradient` sums it.
-fn tracking_cost_with<I: integrators::Integrator<NalgebraF64, 6>>(
+fn tracking_cost_with<I: integrators::Method<NalgebraF64>>(
     scene: &Scene,
     stepper: I,
     every: f64,
 ) -> f64 {
     use sensitivity::Cost;
     let mut sim = Registry::new()
-        .builder::<NalgebraF64, 6>(scene)
+        .builder::<NalgebraF64>(scene)
         .unwrap()
         .integrator(stepper)
         .build()

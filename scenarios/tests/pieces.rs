@@ -1,6 +1,5 @@
 //! A run advanced in pieces is the run advanced in one call, bit for bit:
-//! pausing never moves the step grid. And a run does not depend on how many
-//! idle extra slots its state type carries.
+//! pausing never moves the step grid.
 
 use lie::GlamF64;
 use scenarios::{RunOutput, Scene, Termination, builtin};
@@ -33,7 +32,7 @@ fn scenes(kind: &str, dt: f64) -> Vec<Scene> {
 }
 
 fn in_pieces(scene: &Scene, pieces: usize) -> RunOutput {
-    let mut sim = scenarios::builder::<GlamF64, 6>(scene)
+    let mut sim = scenarios::builder::<GlamF64>(scene)
         .unwrap()
         .build()
         .unwrap();
@@ -94,7 +93,7 @@ fn a_perturbed_run_resumes_from_the_changed_state() {
     scene.backend = scenarios::scene::BackendKind::Glam;
     scene.duration = 4.0;
     let calm = scenarios::run_generic::<GlamF64>(&scene, Default::default()).unwrap();
-    let mut sim = scenarios::builder::<GlamF64, 6>(&scene)
+    let mut sim = scenarios::builder::<GlamF64>(&scene)
         .unwrap()
         .build()
         .unwrap();
@@ -129,7 +128,7 @@ fn advance_to_edges() {
     let mut scene = builtin::hover_disturbed();
     scene.backend = scenarios::scene::BackendKind::Glam;
     scene.duration = 0.5;
-    let mut sim = scenarios::builder::<GlamF64, 6>(&scene)
+    let mut sim = scenarios::builder::<GlamF64>(&scene)
         .unwrap()
         .build()
         .unwrap();
@@ -162,7 +161,7 @@ fn the_guard_ends_a_run_where_a_limit_is_passed() {
         omega: Some(5.0),
         ..Default::default()
     };
-    let mut sim = scenarios::builder::<GlamF64, 6>(&scene)
+    let mut sim = scenarios::builder::<GlamF64>(&scene)
         .unwrap()
         .guard(guard)
         .build()
@@ -184,7 +183,7 @@ fn the_guard_ends_a_run_where_a_limit_is_passed() {
     }
     let out = sim.finish().unwrap();
     assert!(out.diverged().is_some());
-    let bad = scenarios::builder::<GlamF64, 6>(&scene)
+    let bad = scenarios::builder::<GlamF64>(&scene)
         .unwrap()
         .guard(scenarios::DivergenceGuard {
             omega: Some(-1.0),
@@ -195,44 +194,4 @@ fn the_guard_ends_a_run_where_a_limit_is_passed() {
         bad,
         Err(scenarios::SimError::Setting { field: "guard", .. })
     ));
-}
-
-/// The final state and step count of `scene` with `N` extra slots.
-fn with_capacity<const N: usize>(scene: &Scene) -> (lie::RigidState<GlamF64, glam::DMat3>, u64) {
-    let mut sim = scenarios::builder::<GlamF64, N>(scene)
-        .unwrap()
-        .build()
-        .unwrap();
-    sim.advance_to(scene.duration).unwrap();
-    let body = *sim.state().body;
-    (body, sim.finish().unwrap().steps)
-}
-
-/// Dormand–Prince's step sizes come from an error norm over the slots in
-/// use: the same scene with idle slots (attitude mode: 3 integrals; the
-/// RotorPy vehicle: 6 integrals and 4 motor speeds) takes the same steps
-/// to the same state, bit for bit. (Averaged over all `N` slots, the idle
-/// zeros diluted the norm: the whole built-in figure eight in wind took
-/// 22 969 steps at `N = 16` against 23 306 at `N = 10`.)
-#[test]
-fn idle_extra_slots_do_not_change_a_dopri_run() {
-    let mut attitude = builtin::paper_attitude_experiment();
-    let mut wind = builtin::figure_eight_wind();
-    for (s, t) in [(&mut attitude, 2.0), (&mut wind, 3.0)] {
-        s.integrator.kind = "dopri".into();
-        s.duration = t;
-    }
-    let a3 = with_capacity::<3>(&attitude);
-    assert_eq!(
-        a3,
-        with_capacity::<6>(&attitude),
-        "attitude, N = 3 against 6"
-    );
-    assert_eq!(
-        a3,
-        with_capacity::<16>(&attitude),
-        "attitude, N = 3 against 16"
-    );
-    let w10 = with_capacity::<10>(&wind);
-    assert_eq!(w10, with_capacity::<16>(&wind), "wind, N = 10 against 16");
 }

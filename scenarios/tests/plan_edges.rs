@@ -215,7 +215,7 @@ fn the_lgvi_integrates_a_held_rotor_lag_by_the_trapezoidal_rule() {
         psi: 0.0,
         speeds: vec![(0.0, vec![w0; 4]), (0.01, vec![wc; 4])],
     };
-    let out = Simulation::<B, 16>::builder(Box::new(vehicle))
+    let out = Simulation::<B>::builder(Box::new(vehicle))
         .mode(replay, Until::Never)
         .integrator({
             let mut lgvi = integrators::Lgvi::<B, 16>::default();

@@ -159,7 +159,7 @@ fn fly(
     let plan = scenarios::plan::<B>(&scene, &mixer);
     let mut start = RigidBodyState::<B>::at_rest();
     start.x = B::vec3(0.3, -0.2, -1.2);
-    let mut b = Simulation::<B, 16>::builder(vehicle)
+    let mut b = Simulation::<B>::builder(vehicle)
         .initial(start)
         .dt(1e-3)
         .duration(3.0)
@@ -300,7 +300,7 @@ fn a_vehicle_without_rotor_speeds_refuses_them() {
 /// The crazyflie idling (no thrust, no moment) for 0.1 s from rest, with
 /// the rotors' initial speeds given to the builder or not.
 fn idle_from(speeds: Option<&[f64]>) -> Result<RunOutput, SimError> {
-    let mut b = Simulation::<B, 16>::builder(Box::new(crazyflie()))
+    let mut b = Simulation::<B>::builder(Box::new(crazyflie()))
         .dt(1e-3)
         .duration(0.1)
         .record_every(0.01)

@@ -253,7 +253,7 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
             Traj::Circle
         };
         let vehicle = Multirotor::new(MultirotorParams::<B>::crazyflie()).expect("preset");
-        let sim = Simulation::<B, 16>::builder(Box::new(vehicle))
+        let sim = Simulation::<B>::builder(Box::new(vehicle))
             .integrator(integrators::Dopri::<B>::new(1e-12))
             .mode(Se3Control::new(traj), Until::Never)
             .initial(start)

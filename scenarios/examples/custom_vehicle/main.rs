@@ -28,8 +28,9 @@ fn flip(tau: f64, limits: Option<(f64, f64)>) -> Result<RunOutput, Box<dyn std::
     // The scene's plan (attitude-mode flip, then position mode) as modes
     // built for this vehicle; any other plan of `Segment`s works the same.
     let plan = scenarios::plan::<B>(&scene, &vehicle);
-    // Six integral states (e_I, e_i) and four rotor thrusts: N = 10.
-    let mut sim = Simulation::<B, 10>::builder(Box::new(vehicle))
+    // Six integral states (e_I, e_i) and four rotor thrusts: the builder
+    // counts them and sizes the state.
+    let mut sim = Simulation::<B>::builder(Box::new(vehicle))
         .dt(scene.integrator.dt)
         .duration(scene.duration)
         .record_every(scene.record.sample);

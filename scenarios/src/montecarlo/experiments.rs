@@ -307,13 +307,13 @@ impl Setup {
     /// divergence guard ([`DIVERGED_OMEGA`], [`DIVERGED_X`], and for dopri
     /// [`MAX_SUBSTEPS`]: a call that needs more is a solution blowing up
     /// between two checks of the state limits).
-    pub fn builder(&self, init: &Initial) -> Result<SimulationBuilder<'static, B, 6>, SimError> {
+    pub fn builder(&self, init: &Initial) -> Result<SimulationBuilder<'static, B>, SimError> {
         let sc = self.scene(init);
         let vehicle = crate::build_vehicle::<B>(&sc)?;
         let plan = crate::plan::<B>(&sc, vehicle.as_ref());
         let kind: integrators::IntegratorKind = self.integrator.parse()?;
         let stepper =
-            integrators::Stepper::<B, 6>::new(kind, integrators::StepperConfig { tol: self.tol });
+            integrators::Stepper::<B>::new(kind, integrators::StepperConfig { tol: self.tol });
         let body = init.body::<B>();
         let guard = DivergenceGuard {
             omega: Some(DIVERGED_OMEGA),
@@ -321,7 +321,7 @@ impl Setup {
             moment: None,
             substeps: (kind == integrators::IntegratorKind::Dopri).then_some(MAX_SUBSTEPS),
         };
-        let mut b = Simulation::<B, 6>::builder(vehicle)
+        let mut b = Simulation::<B>::builder(vehicle)
             .initial(body)
             .dt(self.dt)
             .duration(self.deadline)
@@ -352,7 +352,7 @@ impl Setup {
     ) -> Study<
         Initial,
         impl Fn(&mut Stream) -> Initial + Sync + '_,
-        impl Fn(&Initial) -> Result<SimulationBuilder<'static, B, 6>, SimError> + Sync + '_,
+        impl Fn(&Initial) -> Result<SimulationBuilder<'static, B>, SimError> + Sync + '_,
         impl Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync + '_,
     > {
         Study::new(

@@ -86,7 +86,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use controllers::ModeOutput;
 use dynamics::RigidBodyState;
-use integrators::Integrator;
+use integrators::Method;
 use lie::Backend;
 use rand_chacha::rand_core::{Rng, SeedableRng};
 
@@ -300,12 +300,12 @@ pub struct Study<D, S, G, M> {
 
 impl<D, S, G, M> Study<D, S, G, M> {
     /// A study of `seed` with a hold of `hold` seconds.
-    pub fn new<B, I, const N: usize>(seed: u64, hold: f64, draw: S, build: G, settle: M) -> Self
+    pub fn new<B, I>(seed: u64, hold: f64, draw: S, build: G, settle: M) -> Self
     where
         B: Backend,
-        I: Integrator<B, N>,
+        I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
         Self {
@@ -321,12 +321,12 @@ impl<D, S, G, M> Study<D, S, G, M> {
     /// Flies sample `index`. A failed step is the sample's result
     /// ([`Status::Error`]); any other error (a setting `build` got wrong,
     /// a full disk) is the study's and returned.
-    pub fn sample<B, I, const N: usize>(&self, index: u64) -> Result<Trial<D>, SimError>
+    pub fn sample<B, I>(&self, index: u64) -> Result<Trial<D>, SimError>
     where
         B: Backend,
-        I: Integrator<B, N>,
+        I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
         self.fly(index, None)?.ok_or_else(|| SimError::Setting {
@@ -336,16 +336,16 @@ impl<D, S, G, M> Study<D, S, G, M> {
     }
 
     /// [`Study::sample`], or `None` when `cancel` is set before it ends.
-    fn fly<B, I, const N: usize>(
+    fn fly<B, I>(
         &self,
         index: u64,
         cancel: Option<&AtomicBool>,
     ) -> Result<Option<Trial<D>>, SimError>
     where
         B: Backend,
-        I: Integrator<B, N>,
+        I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
@@ -400,7 +400,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
     /// core; one without the `parallel` feature), calling `progress` with
     /// the count done now and then; the trials come back in the order of
     /// `indices`, the same whatever the thread count.
-    pub fn run<B, I, const N: usize>(
+    pub fn run<B, I>(
         &self,
         indices: &[u64],
         threads: Option<usize>,
@@ -408,10 +408,10 @@ impl<D, S, G, M> Study<D, S, G, M> {
     ) -> Result<Vec<Trial<D>>, SimError>
     where
         B: Backend,
-        I: Integrator<B, N>,
+        I: Method<B>,
         D: Send,
         S: Fn(&mut Stream) -> D + Sync,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError> + Sync,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError> + Sync,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
     {
         self.run_until_cancelled(indices, threads, progress, &AtomicBool::new(false))
@@ -422,7 +422,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
     /// flight stop at their current step and are dropped. The trials that
     /// finished come back in index order; fewer than `indices` says the
     /// study was cancelled.
-    pub fn run_until_cancelled<B, I, const N: usize>(
+    pub fn run_until_cancelled<B, I>(
         &self,
         indices: &[u64],
         threads: Option<usize>,
@@ -431,10 +431,10 @@ impl<D, S, G, M> Study<D, S, G, M> {
     ) -> Result<Vec<Trial<D>>, SimError>
     where
         B: Backend,
-        I: Integrator<B, N>,
+        I: Method<B>,
         D: Send,
         S: Fn(&mut Stream) -> D + Sync,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, N, I>, SimError> + Sync,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError> + Sync,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
     {
         let done = std::sync::atomic::AtomicU64::new(0);

@@ -119,7 +119,7 @@ pub fn near_pi() -> Result<Vec<NearPiAxis>, SimError> {
             let stop = Box::new(|_: f64, _: &RigidBodyState<B>, o: &ModeOutput<B>| {
                 o.psi.to_f64_lossless() < 1e-3
             });
-            let mut b = Simulation::<B, 6>::builder(vehicle)
+            let mut b = Simulation::<B>::builder(vehicle)
                 .initial(body)
                 .dt(sc.integrator.dt)
                 .duration(sc.duration)

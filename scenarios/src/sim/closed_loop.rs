@@ -10,7 +10,53 @@ use lie::{Backend, Real, S, V3};
 use super::{Segment, SwitchRecord, Until};
 use dynamics::multirotor::MAX_ROTORS;
 
-/// A command with the integral register's rates (slots `0..m`).
+/// Where the plan's integrals and the vehicle's states sit in the
+/// integrator's extra-state array: the integrals first, then the vehicle's
+/// states, the rest idle. The one place that knows the offsets; everything
+/// else asks it for the part it means.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Layout {
+    /// How many integral states the plan's modes use (the largest
+    /// [`controllers::Mode::integral_count`]).
+    pub integrals: usize,
+    /// How many internal states the vehicle declares.
+    pub vehicle_states: usize,
+}
+
+impl Layout {
+    /// Slots holding states.
+    #[inline(always)]
+    pub fn in_use(self) -> usize {
+        self.integrals + self.vehicle_states
+    }
+    /// The integral register in `slots`.
+    #[inline(always)]
+    pub fn integrals<T>(self, slots: &[T]) -> &[T] {
+        &slots[..self.integrals]
+    }
+    /// The integral register in `slots`, to write.
+    #[inline(always)]
+    pub fn integrals_mut<T>(self, slots: &mut [T]) -> &mut [T] {
+        &mut slots[..self.integrals]
+    }
+    /// The vehicle's states in `slots`.
+    #[inline(always)]
+    pub fn vehicle_states<T>(self, slots: &[T]) -> &[T] {
+        &slots[self.integrals..self.in_use()]
+    }
+    /// The vehicle's states in `slots`, to write.
+    #[inline(always)]
+    pub fn vehicle_states_mut<T>(self, slots: &mut [T]) -> &mut [T] {
+        &mut slots[self.integrals..self.in_use()]
+    }
+    /// Both parts of `slots`, to write.
+    pub fn split_mut<T>(self, slots: &mut [T]) -> (&mut [T], &mut [T]) {
+        let (integrals, rest) = slots.split_at_mut(self.integrals);
+        (integrals, &mut rest[..self.vehicle_states])
+    }
+}
+
+/// A command with the integral register's rates.
 #[derive(Copy, Clone)]
 pub(crate) struct Command<B: Backend, const N: usize> {
     pub out: ModeOutput<B>,
@@ -24,9 +70,8 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub wind: Option<&'s mut (dyn Wind + 'a)>,
     pub plan: &'s mut [Segment<'a, B>],
     pub active: usize,
-    /// Integral slots `0..m`, vehicle states `m..m + nv`.
-    pub m: usize,
-    pub nv: usize,
+    /// Where the integrals and the vehicle's states are.
+    pub layout: Layout,
     /// Sampled control: the held command.
     pub held: Option<Command<B, N>>,
     pub sampled: bool,
@@ -54,8 +99,7 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
 #[derive(Copy, Clone)]
 pub(crate) struct Parked<B: Backend, const N: usize> {
     pub active: usize,
-    m: usize,
-    nv: usize,
+    layout: Layout,
     held: Option<Command<B, N>>,
     sampled: bool,
     compensate: bool,
@@ -78,14 +122,12 @@ fn nan_load<B: Backend, const N: usize>() -> Load<B, N> {
 
 impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     /// `vehicle` flying `plan` from its first segment, continuous control,
-    /// `m` integral slots then `nv` vehicle states; an error for a singular
-    /// inertia.
+    /// its states laid out by `layout`; an error for a singular inertia.
     pub fn new(
         vehicle: &'s dyn Vehicle<B>,
         wind: Option<&'s mut (dyn Wind + 'a)>,
         plan: &'s mut [Segment<'a, B>],
-        m: usize,
-        nv: usize,
+        layout: Layout,
     ) -> Result<Self, super::SimError> {
         let inertia_inv =
             lie::ops::inverse::<B>(vehicle.inertia()).ok_or_else(|| super::SimError::Setting {
@@ -98,8 +140,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             wind,
             plan,
             active: 0,
-            m,
-            nv,
+            layout,
             held: None,
             sampled: false,
             compensate: false,
@@ -116,8 +157,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     pub fn park(&self) -> Parked<B, N> {
         Parked {
             active: self.active,
-            m: self.m,
-            nv: self.nv,
+            layout: self.layout,
             held: self.held,
             sampled: self.sampled,
             compensate: self.compensate,
@@ -142,8 +182,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             wind,
             plan,
             active: p.active,
-            m: p.m,
-            nv: p.nv,
+            layout: p.layout,
             held: p.held,
             sampled: p.sampled,
             compensate: p.compensate,
@@ -203,7 +242,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     ) -> Option<ModeOutput<B>> {
         let seg = self.plan.get_mut(self.active)?;
         let st = y.body.group();
-        let m = self.m;
+        let at = self.layout;
         // A rotor-speed mode answers once with both (its law may compute
         // the wrench on the way to the speeds); a wrench mode is asked for
         // the command alone.
@@ -213,8 +252,8 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 .command_with_speeds(
                     t,
                     &st,
-                    &y.extra[..m],
-                    &mut rates[..m],
+                    at.integrals(&y.extra),
+                    at.integrals_mut(rates),
                     &mut self.speed_buf[..n],
                 )
                 .map(|(out, wrote)| {
@@ -224,7 +263,8 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                     out
                 })
         } else {
-            seg.mode.command(t, &st, &y.extra[..m], &mut rates[..m])
+            seg.mode
+                .command(t, &st, at.integrals(&y.extra), at.integrals_mut(rates))
         };
         match answer {
             Ok(mut out) => {
@@ -246,7 +286,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
 
     /// The vehicle's internal states in `y`.
     pub fn vehicle_states<'y>(&self, y: &'y State<B, N>) -> &'y [S<B>] {
-        &y.extra[self.m..self.m + self.nv]
+        self.layout.vehicle_states(&y.extra)
     }
 
     /// Whether the active segment ends on a condition checked after each
@@ -338,11 +378,12 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         let from = self.active;
         self.active += 1;
         self.speeds_mode = self.plan[self.active].mode.commands_rotor_speeds();
-        let m = self.m;
         let st = y.body.group();
-        self.plan[self.active]
-            .mode
-            .enter(S::<B>::lit(t), &st, &mut y.extra[..m]);
+        self.plan[self.active].mode.enter(
+            S::<B>::lit(t),
+            &st,
+            self.layout.integrals_mut(&mut y.extra),
+        );
         Some(SwitchRecord {
             t,
             from,
@@ -366,11 +407,11 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
     }
     /// The plan's integrals and the vehicle's states.
     fn extra_in_use(&self) -> usize {
-        self.m + self.nv
+        self.layout.in_use()
     }
     fn load_depends_on_rates(&self) -> bool {
         (!self.plan.is_empty() && !self.sampled)
-            || self.nv > 0
+            || self.layout.vehicle_states > 0
             || self.vehicle.rate_dependent_loads()
     }
     // Inlined into the stepper: out of line, the load came back through
@@ -402,8 +443,8 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
                 None => return nan_load(),
             }
         };
-        let (m, nv) = (self.m, self.nv);
-        let states = &y.extra[m..m + nv];
+        let at = self.layout;
+        let states = at.vehicle_states(&y.extra);
         let air = self.wind.is_some().then(|| {
             let a = self.wind_at(t.to_f64_lossless(), y);
             B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
@@ -415,10 +456,12 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
                 states,
                 wind: air,
             };
-            match self
-                .vehicle
-                .loads_at_rotor_speeds(t, &y.body, input, &mut rates[m..m + nv])
-            {
+            match self.vehicle.loads_at_rotor_speeds(
+                t,
+                &y.body,
+                input,
+                at.vehicle_states_mut(&mut rates),
+            ) {
                 Some(l) => l,
                 None => {
                     let mode = self.plan[self.active].mode.name();
@@ -434,9 +477,9 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
                     .vehicle
                     .total_loads_in_wind(t, &y.body, &w, states, air),
             };
-            if nv > 0 {
+            if at.vehicle_states > 0 {
                 self.vehicle
-                    .state_rates(t, &y.body, &w, states, &mut rates[m..m + nv]);
+                    .state_rates(t, &y.body, &w, states, at.vehicle_states_mut(&mut rates));
             }
             l
         };

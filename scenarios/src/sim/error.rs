@@ -29,14 +29,14 @@ pub enum SimError {
         /// What is wrong with its value.
         message: String,
     },
-    /// The plan and the vehicle need more extra states than the simulation
-    /// holds.
+    /// The plan and the vehicle need more extra states than the largest
+    /// size a simulation is compiled for ([`CAPACITIES`](super::CAPACITIES)).
     Layout {
         /// Integral slots the plan's modes use.
         integrals: usize,
         /// Internal states the vehicle declares.
         vehicle_states: usize,
-        /// The simulation's `N`.
+        /// The largest size.
         capacity: usize,
     },
     /// A step failed. When a mode rejected its input inside the step (a
@@ -137,10 +137,9 @@ impl std::fmt::Display for SimError {
             } => write!(
                 f,
                 "the plan's modes use {integrals} integral states and the vehicle declares \
-                 {vehicle_states} internal states, {} in all, but the simulation holds \
-                 N = {capacity}; build it as `Simulation::<B, {}>`",
+                 {vehicle_states} internal states, {} in all, but a simulation holds at most \
+                 {capacity} (the largest state it is compiled for)",
                 integrals + vehicle_states,
-                integrals + vehicle_states
             ),
             SimError::Step {
                 t,

@@ -16,16 +16,21 @@
 //! | `record.rs` | one [`Sample`] from the state and the command |
 //!
 //! # Extra states
-//! The integrator advances the body and `N` extra scalars (the const
-//! parameter of [`Simulation`], 6 by default): slots `0..m` are the plan's
-//! integral register (`m` = the largest [`Mode::integral_count`] of the
-//! plan; the paper's modes use `[e_I, e_i]`, so `m = 6`), slots `m..m + n`
-//! the vehicle's internal states (`n` = [`Vehicle::state_count`]); the rest
-//! stay zero and change nothing: a run with more slots than it needs takes
-//! the same steps to the same state, bit for bit (Dormand–Prince's error
-//! norm reads the slots in use only), so a larger `N` costs memory and
-//! time, never results. A plan and vehicle that need more than `N` are a
-//! [`SimError::Layout`] naming both counts.
+//! The integrator advances the body and a fixed-size array of extra
+//! scalars: slots `0..m` are the plan's integral register (`m` = the
+//! largest [`Mode::integral_count`] of the plan; the paper's modes use
+//! `[e_I, e_i]`, so `m = 6`), slots `m..m + n` the vehicle's internal
+//! states (`n` = [`Vehicle::state_count`]). Users meet them by name
+//! ([`SimState::integrals`], [`SimState::vehicle_states`],
+//! [`SimulationBuilder::integrals`], [`SimulationBuilder::vehicle_states`]),
+//! never by offset, and never choose the array's size:
+//! [`SimulationBuilder::build`] counts `m + n` and picks the smallest of
+//! [`CAPACITIES`] that holds them, so the loop is compiled for a size known
+//! at compile time (its stage arithmetic unrolled) without a user naming
+//! it. Unused slots stay zero and change nothing: a run in a larger array
+//! takes the same steps to the same state, bit for bit (Dormand–Prince's
+//! error norm reads the slots in use only). A plan and vehicle that need
+//! more than the largest are a [`SimError::Layout`] naming both counts.
 
 mod builder;
 pub(crate) mod closed_loop;
@@ -124,9 +129,10 @@ pub enum Control {
 
 /// A simulation ready to run: build it with [`Simulation::builder`].
 ///
-/// `N` is the number of extra states the integrator carries (see the
-/// module docs); `I` the integrator, any [`Integrator`] (by default the
-/// run-time [`Stepper`]).
+/// The vehicle, the plan, the integrator and the state, stepped by one
+/// loop compiled for the backend `B`, the integrator and the size of the
+/// extra-state array the builder picked; this handle reaches it through
+/// one virtual call per [`Simulation::advance_to`], never per step.
 ///
 /// ```
 /// use controllers::{AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams};
@@ -160,7 +166,19 @@ pub enum Control {
 /// assert_eq!(out.samples.len(), 51);
 /// # Ok::<(), scenarios::SimError>(())
 /// ```
-pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
+pub struct Simulation<'a, B: Backend> {
+    engine: Box<dyn Run<B> + 'a>,
+}
+
+/// The extra-state array's sizes a [`Simulation`] is compiled for, the
+/// smallest that holds the plan's integrals and the vehicle's states
+/// picked at [`SimulationBuilder::build`]: 6 is the paper's two integral
+/// vectors, 16 a multirotor's rotor speeds beside them.
+pub const CAPACITIES: [usize; 2] = [6, 16];
+
+/// The simulation for `N` extra states and the integrator `I`: what
+/// [`Simulation`] holds behind [`Run`].
+pub(crate) struct Engine<'a, B: Backend, const N: usize, I> {
     vehicle: Box<dyn Vehicle<B> + 'a>,
     /// The air's velocity, evaluated at the vehicle at every load.
     wind: Option<Box<dyn Wind + 'a>>,
@@ -168,8 +186,8 @@ pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     stepper: I,
     /// The state now: the initial state until the run starts.
     y: State<B, N>,
-    integrals: usize,
-    vehicle_states: usize,
+    /// Where the integrals and the vehicle's states are in `y`.
+    layout: closed_loop::Layout,
     duration: f64,
     stop: Option<Condition<'a, B>>,
     guard: DivergenceGuard,
@@ -182,11 +200,11 @@ pub struct Simulation<'a, B: Backend, const N: usize = 6, I = Stepper<B, N>> {
     failed: bool,
 }
 
-impl<'a, B: Backend, const N: usize> Simulation<'a, B, N, Stepper<B, N>> {
+impl<'a, B: Backend> Simulation<'a, B> {
     /// Starts a simulation of `vehicle` (defaults: no plan, at rest, RK4
     /// with `dt = 1e-3`, 1 s, continuous control, a sample every 0.01 s,
     /// events located).
-    pub fn builder(vehicle: Box<dyn Vehicle<B> + 'a>) -> SimulationBuilder<'a, B, N> {
+    pub fn builder(vehicle: Box<dyn Vehicle<B> + 'a>) -> SimulationBuilder<'a, B> {
         SimulationBuilder {
             vehicle,
             wind: None,
@@ -240,11 +258,11 @@ pub struct SimStateMut<'s, B: Backend> {
     pub vehicle_states: &'s mut [S<B>],
 }
 
-impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
+impl<B: Backend> Simulation<'_, B> {
     /// Runs to the end: [`Simulation::advance_to`] the duration, then
     /// [`Simulation::finish`].
     pub fn run(mut self, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
-        let end = self.duration;
+        let end = self.duration();
         self.advance_to_with(end, opts)?;
         self.finish()
     }
@@ -305,6 +323,89 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
     /// # Ok::<(), scenarios::SimError>(())
     /// ```
     pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
+        self.engine.advance_to_with(t, opts)
+    }
+
+    /// Advances to the end of the run and returns its output.
+    pub fn finish_run(mut self) -> Result<RunOutput, SimError> {
+        let end = self.duration();
+        self.advance_to(end)?;
+        self.finish()
+    }
+
+    /// Ends the run where it is and returns its output. A run not yet at
+    /// its end gets a last sample at [`Simulation::time`] (kept in
+    /// [`RunOutput::last`] and, when recording, in the samples; no sink is
+    /// told) and [`Termination::Interrupted`]; the error is that sample's
+    /// (a mode rejecting the state there).
+    pub fn finish(self) -> Result<RunOutput, SimError> {
+        self.engine.finish()
+    }
+
+    /// The run's output so far (samples, switches, events, extrema; the
+    /// last sample taken is [`RunOutput::last`]); empty before the first
+    /// [`Simulation::advance_to`].
+    pub fn output(&self) -> &RunOutput {
+        self.engine.output()
+    }
+
+    /// The simulated time now, s.
+    pub fn time(&self) -> f64 {
+        self.engine.time()
+    }
+
+    /// The run's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.engine.duration()
+    }
+
+    /// How the run ended; `None` while it can go on.
+    pub fn termination(&self) -> Option<Termination> {
+        self.engine.termination()
+    }
+
+    /// The state now.
+    pub fn state(&self) -> SimState<'_, B> {
+        self.engine.state()
+    }
+
+    /// The state now, to change before the next
+    /// [`Simulation::advance_to`]: the run resumes from the changed state
+    /// on the same step grid (the stepper forgets its cached loads, a law
+    /// held at a breakpoint branch picks its branch from the state again;
+    /// under sampled control the held command stays until the next control
+    /// instant, as on a flight computer). Change it only to finite values:
+    /// the first step checks them. Before the first step, the vehicle's
+    /// internal states are still to be set from the first command; to
+    /// start from states of one's own, give them to the builder
+    /// ([`SimulationBuilder::vehicle_states`]), which keeps them.
+    pub fn state_mut(&mut self) -> SimStateMut<'_, B> {
+        self.engine.state_mut()
+    }
+
+    /// `(m, n)`: how many integral states the plan's modes use and how
+    /// many internal states the vehicle has.
+    pub fn layout(&self) -> (usize, usize) {
+        self.engine.layout()
+    }
+}
+
+/// What [`Simulation`] asks of the loop it holds, whatever the loop's
+/// extra-state size and integrator.
+trait Run<B: Backend> {
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError>;
+    fn finish(self: Box<Self>) -> Result<RunOutput, SimError>;
+    fn output(&self) -> &RunOutput;
+    fn time(&self) -> f64;
+    fn duration(&self) -> f64;
+    fn termination(&self) -> Option<Termination>;
+    fn state(&self) -> SimState<'_, B>;
+    fn state_mut(&mut self) -> SimStateMut<'_, B>;
+    fn layout(&self) -> (usize, usize);
+}
+
+impl<B: Backend, const N: usize, I: Integrator<B, N>> Run<B> for Engine<'_, B, N, I> {
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
         if t.is_nan() {
             return Err(SimError::Setting {
                 field: "advance_to",
@@ -322,84 +423,52 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Simulation<'_, B, N, I> {
         r
     }
 
-    /// Advances to the end of the run and returns its output.
-    pub fn finish_run(mut self) -> Result<RunOutput, SimError> {
-        let end = self.duration;
-        self.advance_to(end)?;
-        self.finish()
+    fn finish(self: Box<Self>) -> Result<RunOutput, SimError> {
+        stepping::finish(*self)
     }
 
-    /// Ends the run where it is and returns its output. A run not yet at
-    /// its end gets a last sample at [`Simulation::time`] (kept in
-    /// [`RunOutput::last`] and, when recording, in the samples; no sink is
-    /// told) and [`Termination::Interrupted`]; the error is that sample's
-    /// (a mode rejecting the state there).
-    pub fn finish(self) -> Result<RunOutput, SimError> {
-        stepping::finish(self)
-    }
-
-    /// The run's output so far (samples, switches, events, extrema; the
-    /// last sample taken is [`RunOutput::last`]); empty before the first
-    /// [`Simulation::advance_to`].
-    pub fn output(&self) -> &RunOutput {
+    fn output(&self) -> &RunOutput {
         &self.running.out
     }
 
-    /// The simulated time now, s.
-    pub fn time(&self) -> f64 {
+    fn time(&self) -> f64 {
         self.running.t
     }
 
-    /// The run's duration, s.
-    pub fn duration(&self) -> f64 {
+    fn duration(&self) -> f64 {
         self.duration
     }
 
-    /// How the run ended; `None` while it can go on.
-    pub fn termination(&self) -> Option<Termination> {
+    fn termination(&self) -> Option<Termination> {
         self.running.done
     }
 
-    /// The state now.
-    pub fn state(&self) -> SimState<'_, B> {
-        let (m, nv) = (self.integrals, self.vehicle_states);
+    fn state(&self) -> SimState<'_, B> {
+        let at = self.layout;
         let segment = self.running.active();
         SimState {
-            t: self.time(),
+            t: self.running.t,
             body: &self.y.body,
-            integrals: &self.y.extra[..m],
-            vehicle_states: &self.y.extra[m..m + nv],
+            integrals: at.integrals(&self.y.extra),
+            vehicle_states: at.vehicle_states(&self.y.extra),
             segment,
             mode: self.plan.get(segment).map_or("none", |s| s.mode.name()),
         }
     }
 
-    /// The state now, to change before the next
-    /// [`Simulation::advance_to`]: the run resumes from the changed state
-    /// on the same step grid (the stepper forgets its cached loads, a law
-    /// held at a breakpoint branch picks its branch from the state again;
-    /// under sampled control the held command stays until the next control
-    /// instant, as on a flight computer). Change it only to finite values:
-    /// the first step checks them. Before the first step, the vehicle's
-    /// internal states are still to be set from the first command; to
-    /// start from states of one's own, give them to the builder
-    /// ([`SimulationBuilder::vehicle_states`]), which keeps them.
-    pub fn state_mut(&mut self) -> SimStateMut<'_, B> {
+    fn state_mut(&mut self) -> SimStateMut<'_, B> {
         self.perturbed = true;
-        let (m, nv) = (self.integrals, self.vehicle_states);
-        let t = self.time();
-        let (integrals, rest) = self.y.extra.split_at_mut(m);
+        let t = self.running.t;
+        let (integrals, vehicle_states) = self.layout.split_mut(&mut self.y.extra);
         SimStateMut {
             t,
             body: &mut self.y.body,
             integrals,
-            vehicle_states: &mut rest[..nv],
+            vehicle_states,
         }
     }
 
-    /// `(m, n)`: integral slots used by the plan and the vehicle's internal
-    /// states (slots `0..m` and `m..m + n` of the extra states).
-    pub fn layout(&self) -> (usize, usize) {
-        (self.integrals, self.vehicle_states)
+    fn layout(&self) -> (usize, usize) {
+        (self.layout.integrals, self.layout.vehicle_states)
     }
 }

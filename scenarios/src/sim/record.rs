@@ -140,13 +140,8 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     s.r = fm::<B>(y.body.r);
     s.omega = f3::<B>(y.body.omega);
     s.wind = sys.wind_at(t, y);
-    let ex = |k: usize| {
-        if k < sys.m {
-            y.extra[k].to_f64_lossless()
-        } else {
-            0.0
-        }
-    };
+    let integrals = sys.layout.integrals(&y.extra);
+    let ex = |k: usize| integrals.get(k).map_or(0.0, |e| e.to_f64_lossless());
     s.e_att = [ex(0), ex(1), ex(2)];
     s.e_pos = [ex(3), ex(4), ex(5)];
     let states = sys.vehicle_states(y);

@@ -15,13 +15,13 @@ use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State};
 use lie::{Backend, Real, S, SimdReal};
 
-use super::closed_loop::{ClosedLoop, Parked};
+use super::closed_loop::{ClosedLoop, Layout, Parked};
 use super::emit::{Emit, Record};
 use super::events::{Crossing, crossing, event_derivatives, locate_condition, split_at_crossing};
 use super::grid::Grid;
 use super::record::{empty_sample, sample, track, track_figures};
 use super::{
-    Control, Divergence, DivergenceGuard, RunOptions, RunOutput, Segment, SimError, Simulation,
+    Control, Divergence, DivergenceGuard, Engine, RunOptions, RunOutput, Segment, SimError,
     Termination, Until,
 };
 
@@ -103,7 +103,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
     let sys = ClosedLoop {
         sampled,
         compensate: s.compensate,
-        ..ClosedLoop::new(vehicle, wind, plan, s.m, s.nv)?
+        ..ClosedLoop::new(vehicle, wind, plan, s.layout)?
     };
     let mut out = empty_output(sys.plan.iter().map(|s| s.mode.name()).collect());
     out.epsilon = <S<B> as lie::Real>::epsilon().to_f64_lossless();
@@ -146,8 +146,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
 pub(crate) struct Settings {
     pub control: Control,
     pub compensate: bool,
-    pub m: usize,
-    pub nv: usize,
+    pub layout: Layout,
     pub dt: f64,
     pub t_end: f64,
     pub record: f64,
@@ -158,12 +157,12 @@ pub(crate) struct Settings {
 /// [`Simulation::advance_to_with`]: the loop rebuilt around the
 /// simulation's vehicle and plan, stepped to `until`, and parked again.
 pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
-    sim: &mut Simulation<'_, B, N, I>,
+    sim: &mut Engine<'_, B, N, I>,
     until: f64,
     opts: RunOptions<'_>,
 ) -> Result<(), SimError> {
     let wall = Instant::now();
-    let Simulation {
+    let Engine {
         vehicle,
         wind,
         plan,
@@ -222,9 +221,9 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
 /// [`Simulation::finish`]: the output, with a last sample where a run not
 /// at its end stopped.
 pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
-    sim: Simulation<'_, B, N, I>,
+    sim: Engine<'_, B, N, I>,
 ) -> Result<RunOutput, SimError> {
-    let Simulation {
+    let Engine {
         vehicle,
         mut wind,
         mut plan,
@@ -564,8 +563,7 @@ fn begin<B: Backend, const N: usize>(
     if sys.sampled {
         sys.held = sys.command(l(0.0), y);
     }
-    if sys.nv > 0 && !vehicle_states_given {
-        let (m, nv) = (sys.m, sys.nv);
+    if sys.layout.vehicle_states > 0 && !vehicle_states_given {
         // Sampled: the command held from t = 0 is the first one (a mode is
         // asked once per control instant); continuous: ask for it.
         let first = if sys.sampled {
@@ -573,7 +571,7 @@ fn begin<B: Backend, const N: usize>(
         } else {
             sys.command(l(0.0), y)
         };
-        let states = &mut y.extra[m..m + nv];
+        let states = sys.layout.vehicle_states_mut(&mut y.extra);
         match first {
             Some(super::closed_loop::Command {
                 speeds: Some((buf, n)),
