@@ -1,6 +1,6 @@
-//! A scene's [`Simulation`] with its scalar, backend and state capacity
-//! chosen at run time, for front ends that cannot name the generic type
-//! (bindings to other languages, a UI that loads any scene file).
+//! A scene's [`Simulation`] with its scalar and backend chosen at run
+//! time, for front ends that cannot name the generic type (bindings to
+//! other languages, a UI that loads any scene file).
 
 use dynamics::RigidBodyState;
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation};
