@@ -189,3 +189,53 @@ fn the_papers_modes_declare_their_register_and_obey_forced_branches() {
     assert!((auto.desired_omega - inside.desired_omega).norm() > 1e-3);
     assert_eq!(auto.desired_omega, again.desired_omega);
 }
+
+/// A load asks for the wrench alone (`Mode::wrench`), samples for the
+/// whole command: through `dyn Mode`, as a simulation holds its modes, the
+/// two give the same thrust, moment and integral rates bit for bit, for
+/// both of the paper's modes in tilted, spinning, moving states with
+/// nonzero integrals (the simulation's bit identity with the runs before
+/// `wrench` existed rests on this). And the default reaches a user's mode.
+#[test]
+fn the_wrench_is_the_commands_bit_for_bit() {
+    let mut att = AttitudeMode::<B, _, HoldPosition<B>>::new(
+        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
+        AttitudeGains::paper(),
+        |t: f64| AttitudeReference {
+            rd: R::exp(V::new(0.1 * t, -0.2, 0.3)),
+            omega_d: V::new(0.1, 0.0, -0.2),
+            omega_d_dot: V::new(0.0, 0.05, 0.0),
+        },
+        AttitudeThrust::Constant(7.4),
+    );
+    let mut pos = position_mode();
+    let mut full = Full::default();
+    let modes: [&mut dyn Mode<B>; 3] = [&mut att, &mut pos, &mut full];
+    for m in modes {
+        for k in 0..20 {
+            let f = k as f64;
+            let mut s = at_rest();
+            s.r = R::exp(V::new(0.3 * f.sin(), 2.9 * (0.7 * f).cos(), -0.4));
+            s.omega = V::new(1.5 - 0.2 * f, 0.4, -2.0 + 0.1 * f);
+            s.x = V::new(0.5, -0.3 * f, 0.2);
+            s.v = V::new(-0.1, 0.2, 0.05 * f);
+            let n = m.integral_count();
+            let reg: Vec<f64> = (0..n).map(|i| 0.3 * (f + i as f64).sin()).collect();
+            let (mut r_cmd, mut r_wr) = (vec![0.0; n], vec![0.0; n]);
+            let t = 0.1 * f;
+            let out = m.command(t, &s, &reg, &mut r_cmd).unwrap();
+            let (thrust, moment) = m.wrench(t, &s, &reg, &mut r_wr).unwrap();
+            let what = format!("{} at sample {k}", m.name());
+            assert_eq!(thrust.to_bits(), out.thrust.to_bits(), "{what}: thrust");
+            for i in 0..3 {
+                assert_eq!(
+                    moment[i].to_bits(),
+                    out.moment[i].to_bits(),
+                    "{what}: M[{i}]"
+                );
+            }
+            let bits = |r: &[f64]| r.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&r_wr), bits(&r_cmd), "{what}: rates");
+        }
+    }
+}
