@@ -3,7 +3,7 @@
 
 use lie::num_traits::Zero;
 use lie::{
-    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3, hat,
+    Backend, LieGroup, M3, Real, RigidTangent, Rotation, S, SimdBackend, SimdReal, So3Mat, V3,
     right_jacobian_inv,
 };
 
@@ -54,13 +54,24 @@ impl<B: SimdBackend> Body<B> {
     pub fn deriv<const N: usize>(&self, y: &State<B, N>, l: &Load<B, N>) -> Deriv<B, N> {
         let b = &y.body;
         Deriv {
-            r: B::mat3_mul(b.r, hat::<B>(b.omega)),
+            r: mul_hat::<B>(b.r, b.omega),
             x: b.v,
             v: l.force * self.inv_mass,
             w: self.omega_dot(b.omega, l.moment),
             e: l.extra_rate,
         }
     }
+}
+
+/// `R Ω^` column by column: the matrix product `R · hat(Ω)` without its
+/// nine products by the zeros of `hat(Ω)` (each column is the product's
+/// sum with its zero term dropped and `x + y·(−z)` written `x − y·z`, so
+/// the same numbers up to the sign of an exact zero).
+#[inline(always)]
+pub(crate) fn mul_hat<B: SimdBackend>(r: M3<B>, w: V3<B>) -> M3<B> {
+    let [r0, r1, r2] = B::mat3_cols(r);
+    let [a, b, c] = B::vec3_to_array(w);
+    B::mat3_from_cols(r1 * c - r2 * b, r2 * a - r0 * c, r0 * b - r1 * a)
 }
 
 /// Evaluates the load, checking it is finite.
@@ -89,14 +100,24 @@ pub(crate) fn combine<B: SimdBackend, const N: usize, const K: usize>(
     h: S<B>,
     terms: [(S<B>, &Deriv<B, N>); K],
 ) -> State<B, N> {
+    let ch: [S<B>; K] = core::array::from_fn(|i| terms[i].0 * h);
     // The nine numbers of R here; every other field as a group stage has it.
-    let mut dr = terms[0].1.r * (terms[0].0 * h);
-    for (c, k) in &terms[1..] {
-        dr = dr + k.r * (*c * h);
+    let mut dr = terms[0].1.r * ch[0];
+    for (c, k) in ch[1..].iter().zip(&terms[1..]) {
+        dr = dr + k.1.r * *c;
     }
-    let (d, extra) = increment(body, y, h, terms);
+    let sum = |part: fn(&Deriv<B, N>) -> V3<B>| {
+        let mut d = part(terms[0].1) * ch[0];
+        for (c, k) in ch[1..].iter().zip(&terms[1..]) {
+            d = d + part(k.1) * *c;
+        }
+        d
+    };
+    // Computed whether or not the body translates and chosen after, so
+    // the stage is one straight run of arithmetic over the whole state.
+    let (x, v) = (y.body.x + sum(|k| k.x), y.body.v + sum(|k| k.v));
     let (x, v) = if body.translates {
-        (y.body.x + d.x, y.body.v + d.v)
+        (x, v)
     } else {
         (y.body.x, y.body.v)
     };
@@ -105,9 +126,9 @@ pub(crate) fn combine<B: SimdBackend, const N: usize, const K: usize>(
             r: y.body.r + dr,
             x,
             v,
-            omega: y.body.omega + d.omega,
+            omega: y.body.omega + sum(|k| k.w),
         },
-        extra,
+        extra: extras(y, h, &terms),
     }
 }
 
