@@ -266,18 +266,32 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             seg.mode
                 .command(t, &st, at.integrals(&y.extra), at.integrals_mut(rates))
         };
+        self.settle(y, answer, |out| &mut out.moment)
+    }
+
+    /// What both command paths do with a mode's answer: a compensating
+    /// loop subtracts the vehicle's configuration moment from the
+    /// commanded one (`moment` finds it in the answer); an error is kept
+    /// for the report after the step (a non-finite state: the integrator
+    /// sees NaN loads and stops).
+    #[inline(always)]
+    fn settle<T>(
+        &mut self,
+        y: &State<B, N>,
+        answer: Result<T, ControlError>,
+        moment: impl FnOnce(&mut T) -> &mut V3<B>,
+    ) -> Option<T> {
         match answer {
             Ok(mut out) => {
                 if self.compensate
                     && let Some(mo) = self.vehicle.configuration_moment(&y.body)
                 {
-                    out.moment = out.moment - mo;
+                    let m = moment(&mut out);
+                    *m = *m - mo;
                 }
                 Some(out)
             }
             Err(e) => {
-                // A non-finite state: report it after the step (the
-                // integrator sees NaN loads and stops).
                 self.error.get_or_insert(e);
                 None
             }
@@ -308,24 +322,11 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         let seg = self.plan.get_mut(self.active)?;
         let st = y.body.group();
         let at = self.layout;
-        match seg
+        let answer = seg
             .mode
             .wrench(t, &st, at.integrals(&y.extra), at.integrals_mut(rates))
-        {
-            Ok((thrust, mut moment)) => {
-                if self.compensate
-                    && let Some(mo) = self.vehicle.configuration_moment(&y.body)
-                {
-                    moment = moment - mo;
-                }
-                Some(Wrench { thrust, moment })
-            }
-            Err(e) => {
-                // As in `command_into`: reported after the step.
-                self.error.get_or_insert(e);
-                None
-            }
-        }
+            .map(|(thrust, moment)| Wrench { thrust, moment });
+        self.settle(y, answer, |w| &mut w.moment)
     }
 
     /// The vehicle's internal states in `y`.
