@@ -45,10 +45,12 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
         let e0 = before.extra[bp.slot].to_f64_lossless();
         let e1 = after.extra[bp.slot].to_f64_lossless();
         let (g0, g1) = (e0.abs() - level, e1.abs() - level);
-        // A component sitting on ±level (just located) is not a new crossing.
-        // (Plain sign tests: this runs after every step; both values are
-        // finite, the step has checked its state, and ±0 is caught first.)
-        if g0.abs() <= 1e-12 * level || (g0 < 0.0) == (g1 < 0.0) || g1 == 0.0 {
+        // No side change (the usual answer after a step, so asked first);
+        // a component sitting on ±level (just located) is not a new
+        // crossing either. (Plain sign tests: this runs after every step;
+        // both values are finite, the step has checked its state, and ±0
+        // is caught by the last test.)
+        if (g0 < 0.0) == (g1 < 0.0) || g1 == 0.0 || g0.abs() <= 1e-12 * level {
             continue;
         }
         let target = if g0 < 0.0 {
