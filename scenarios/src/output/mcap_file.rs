@@ -40,11 +40,13 @@ pub const TOPICS: [&str; 7] = [
     "/mode",
 ];
 
-/// The messages of the `gpid` channels, protobuf-encoded through the
-/// `foxglove` crate's derive (each type's schema is a protobuf
-/// `FileDescriptorSet` stored in the MCAP, so any protobuf reader decodes
-/// them; the poses and transforms are Foxglove's own `PoseInFrame` and
-/// `FrameTransform`).
+/// The messages of the `gpid` channels, described through the `foxglove`
+/// crate's derive (each type's schema is a protobuf `FileDescriptorSet`
+/// stored in the MCAP, so any protobuf reader decodes them; the poses and
+/// transforms are Foxglove's own `PoseInFrame` and `FrameTransform`). A
+/// sample's messages are written by an encoder of this crate's own, tested
+/// to produce the derive's and `prost`'s bytes exactly; these types decode
+/// them.
 pub mod msg {
     pub use foxglove::messages::{
         FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3,
@@ -109,32 +111,7 @@ pub mod msg {
 }
 
 use foxglove::Encode as _;
-use msg::{FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3};
-
-fn v3(a: [f64; 3]) -> Vector3 {
-    Vector3 {
-        x: a[0],
-        y: a[1],
-        z: a[2],
-    }
-}
-
-fn q4(q: [f64; 4]) -> Quaternion {
-    Quaternion {
-        x: q[0],
-        y: q[1],
-        z: q[2],
-        w: q[3],
-    }
-}
-
-fn stamp(ns: u64) -> Option<Timestamp> {
-    // u32 seconds: 136 years of simulated time.
-    Some(Timestamp::new(
-        u32::try_from(ns / 1_000_000_000).unwrap_or(u32::MAX),
-        (ns % 1_000_000_000) as u32,
-    ))
-}
+use msg::{FrameTransform, PoseInFrame};
 
 /// Nanoseconds of a sample time (MCAP log times; negative or non-finite
 /// times, which a run never produces, clamp to 0).
@@ -257,12 +234,6 @@ pub struct McapWriter {
     mode_names: Vec<&'static str>,
     messages: u64,
     next_static_ns: u64,
-    // Reused messages: their strings and vectors are allocated once.
-    pose: PoseInFrame,
-    world_tf: FrameTransform,
-    body_tf: FrameTransform,
-    command: msg::Command,
-    states: msg::VehicleStates,
     wind_on: bool,
 }
 
@@ -322,24 +293,6 @@ impl McapWriter {
             mode_names: Vec::new(),
             messages: 0,
             next_static_ns: 0,
-            pose: PoseInFrame {
-                frame_id: "ned".into(),
-                ..Default::default()
-            },
-            world_tf: FrameTransform {
-                parent_frame_id: "world".into(),
-                child_frame_id: "ned".into(),
-                translation: Some(v3([0.0; 3])),
-                rotation: Some(q4([1.0, 0.0, 0.0, 0.0])),
-                ..Default::default()
-            },
-            body_tf: FrameTransform {
-                parent_frame_id: "ned".into(),
-                child_frame_id: "body".into(),
-                ..Default::default()
-            },
-            command: msg::Command::default(),
-            states: msg::VehicleStates::default(),
             wind_on: false,
         })
     }
@@ -452,64 +405,48 @@ impl Sink for McapWriter {
 
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
         let ns = nanos(s.t);
+        let at = proto::sec_nsec(ns);
         let q = quaternion_xyzw(&s.r);
         let qd = quaternion_xyzw(&s.rd);
-        for (k, x, q) in [(0, s.x, q), (1, s.xd, qd)] {
-            let p = &mut self.pose;
-            p.timestamp = stamp(ns);
-            p.pose = Some(Pose {
-                position: Some(v3(x)),
-                orientation: Some(q4(q)),
-            });
-            enc(&mut self.batch.bytes, &self.path, &self.pose)?;
-            self.put(k, ns)?;
-        }
+        proto::pose_in_frame(&mut self.batch.bytes, at, "ned", s.x, q);
+        self.put(0, ns)?;
+        proto::pose_in_frame(&mut self.batch.bytes, at, "ned", s.xd, qd);
+        self.put(1, ns)?;
         // world (z up) → ned: a half turn about x, (x, y, z, w). It never
         // changes, so it goes out at most every STATIC_TF_NS of simulated
         // time (Foxglove holds a transform until a newer one comes): at
         // 1 kHz sampling, a tenth of the log's bytes saved.
         if ns >= self.next_static_ns {
             self.next_static_ns = ns.saturating_add(STATIC_TF_NS);
-            self.world_tf.timestamp = stamp(ns);
-            enc(&mut self.batch.bytes, &self.path, &self.world_tf)?;
+            let half_turn_x = [1.0, 0.0, 0.0, 0.0];
+            proto::frame_transform(
+                &mut self.batch.bytes,
+                at,
+                "world",
+                "ned",
+                [0.0; 3],
+                half_turn_x,
+            );
             self.put(2, ns)?;
         }
-        self.body_tf.timestamp = stamp(ns);
-        self.body_tf.translation = Some(v3(s.x));
-        self.body_tf.rotation = Some(q4(q));
-        enc(&mut self.batch.bytes, &self.path, &self.body_tf)?;
+        proto::frame_transform(&mut self.batch.bytes, at, "ned", "body", s.x, q);
         self.put(2, ns)?;
         let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
-        self.encode(&msg::Errors {
-            psi: s.psi,
-            ex: s.ex,
-            e_x: v3(e_x),
-            omega: v3(s.omega),
-            omega_d: v3(s.omega_d),
-        })?;
+        proto::errors(&mut self.batch.bytes, s.psi, s.ex, e_x, s.omega, s.omega_d);
         self.put(3, ns)?;
-        self.command.thrust = s.thrust;
-        self.command.moment = v3(s.moment);
-        self.command.rotor_thrusts.clear();
-        self.command.rotor_thrusts.extend_from_slice(&s.rotors);
-        enc(&mut self.batch.bytes, &self.path, &self.command)?;
+        proto::command(&mut self.batch.bytes, s.thrust, s.moment, &s.rotors);
         self.put(4, ns)?;
-        self.encode(&msg::Integrals {
-            attitude: v3(s.e_att),
-            position: v3(s.e_pos),
-        })?;
+        proto::integrals(&mut self.batch.bytes, s.e_att, s.e_pos);
         self.put(5, ns)?;
         if !s.vehicle_states.is_empty() {
             // Only a vehicle with internal states gets their channel (the
             // writer thread creates it at the first message).
-            self.states.states.clear();
-            self.states.states.extend_from_slice(&s.vehicle_states);
-            enc(&mut self.batch.bytes, &self.path, &self.states)?;
+            proto::vehicle_states(&mut self.batch.bytes, &s.vehicle_states);
             self.put(STATES_SLOT, ns)?;
         }
         self.wind_on |= s.wind != [0.0; 3];
         if self.wind_on {
-            self.encode(&v3(s.wind))?;
+            proto::vector3(&mut self.batch.bytes, s.wind);
             self.put(WIND_SLOT, ns)?;
         }
         Ok(())

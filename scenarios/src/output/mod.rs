@@ -28,6 +28,7 @@ pub use crate::sim::{OutputError, Sink, Tee, Watched};
 mod csv;
 mod mcap_file;
 mod paths;
+mod proto;
 mod table_log;
 pub use csv::{CsvWriter, csv_header, csv_row, write_csv};
 pub use mcap_file::{
