@@ -6,6 +6,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+use super::mcap_chunks::ChunkedMcap;
 use super::*;
 use crate::{RunOutput, Sample, SwitchRecord};
 
@@ -136,7 +137,13 @@ const STATES_SLOT: u8 = 7;
 /// The channel slot of `/wind` (created at its first message).
 const WIND_SLOT: u8 = 8;
 
-type Mcap = mcap::Writer<mcap::write::NoSeek<BufWriter<File>>>;
+type Mcap = ChunkedMcap<BufWriter<File>>;
+
+/// The writer named in the file's header.
+const LIBRARY: &str = concat!("geopid-scenarios/", env!("CARGO_PKG_VERSION"));
+
+/// Chunks close once their records pass this size.
+const CHUNK_TARGET: usize = 4 << 20;
 
 /// Appends one protobuf message to `buf` (a growing `Vec` never runs out
 /// of room, so this fails only on a message the type cannot encode).
@@ -146,7 +153,7 @@ fn enc<M: foxglove::Encode>(buf: &mut Vec<u8>, path: &Path, m: &M) -> Result<(),
 
 /// Adds a protobuf schema from the `foxglove` crate's description of a
 /// message type.
-fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> Result<u16, mcap::McapError> {
+fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> std::io::Result<u16> {
     let s = schema.expect("every message type here has a protobuf schema");
     w.add_schema(&s.name, &s.encoding, &s.data)
 }
@@ -158,7 +165,7 @@ fn write_batches(
     mut w: Mcap,
     ch: [u16; 7],
     (rx, back): WorkerEnds<Batch>,
-) -> Result<Mcap, mcap::McapError> {
+) -> std::io::Result<Mcap> {
     let mut seq = [0u32; 9];
     // Channels created on demand: (slot, topic, schema, id once created).
     let mut lazy: [(u8, &str, Option<foxglove::Schema>, Option<u16>); 2] = [
@@ -185,15 +192,7 @@ fn write_batches(
             };
             let k = usize::from(slot);
             seq[k] = seq[k].wrapping_add(1);
-            w.write_to_known_channel(
-                &mcap::records::MessageHeader {
-                    channel_id,
-                    sequence: seq[k],
-                    log_time: ns,
-                    publish_time: ns,
-                },
-                &batch.bytes[start..end],
-            )?;
+            w.message(channel_id, seq[k], ns, &batch.bytes[start..end])?;
             start = end;
         }
         batch.bytes.clear();
@@ -222,10 +221,12 @@ fn write_batches(
 /// see the README for the measurement.
 ///
 /// The messages are encoded on the caller's thread and written (record
-/// framing, lz4, CRCs, I/O) by a thread of the writer's own, through a
-/// bounded queue: on two cores, compression overlaps the simulation, and a
-/// writer slower than the simulation slows it down instead of piling up
-/// samples in memory.
+/// framing into chunks, message indexes, I/O) by a thread of the writer's
+/// own, through a bounded queue: on two cores, the writing overlaps the
+/// simulation, and a writer slower than the simulation slows it down
+/// instead of piling up samples in memory. The file's layout is the `mcap`
+/// crate's, written by this crate (its per-message path was half of an
+/// `--mcap` run's instructions).
 pub struct McapWriter {
     path: PathBuf,
     target: Target,
@@ -245,26 +246,17 @@ impl McapWriter {
     /// the writer thread.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let (target, file) = Target::open(path)?;
-        let e = |x: mcap::McapError| err_chain(path, &x);
-        // Never seek, so a pipe works like a file: each chunk is assembled
-        // in memory and written once. What the chunks cost was measured on
-        // an hour of `hover-disturbed` at 1 kHz (README, "Outputs near the
-        // disk"): the mcap crate feeds its lz4 encoder one record at a time
-        // (per-call overhead and a content checksum on ~100-byte writes),
-        // which cost more than writing 2.8x the bytes uncompressed; the
+        let e = |x: std::io::Error| err_io(path, &x);
+        // Append only, so a pipe works like a file: each chunk is
+        // assembled in memory and written once. What the chunks cost was
+        // measured on an hour of `hover-disturbed` at 1 kHz (README,
+        // "Outputs near the disk"): lz4 on ~100-byte records cost more than
+        // writing 2.8x the bytes uncompressed, and the chunk and data
         // CRCs (optional in MCAP, and the file is synced and renamed whole)
-        // cost a tenth of the writer's time. Chunks of 4 MiB, larger than
-        // the 64 kB buffer, go to the file without a copy.
-        let file = mcap::write::NoSeek::new(BufWriter::with_capacity(1 << 16, file));
-        let mut w = mcap::WriteOptions::new()
-            .compression(None)
-            .chunk_size(Some(4 << 20))
-            .calculate_chunk_crcs(false)
-            .calculate_data_section_crc(false)
-            .profile("")
-            .disable_seeking(true)
-            .create(file)
-            .map_err(e)?;
+        // a tenth of the writer's time. Chunks of 4 MiB, larger than the
+        // 64 kB buffer, go to the file without a copy.
+        let file = BufWriter::with_capacity(1 << 16, file);
+        let mut w = ChunkedMcap::create(file, LIBRARY, CHUNK_TARGET).map_err(e)?;
         let pose = add_schema(&mut w, PoseInFrame::get_schema()).map_err(e)?;
         let tf = add_schema(&mut w, FrameTransform::get_schema()).map_err(e)?;
         let errors = add_schema(&mut w, msg::Errors::get_schema()).map_err(e)?;
@@ -283,7 +275,7 @@ impl McapWriter {
         }
         let mcap_path = path.to_path_buf();
         let worker = Worker::spawn(path, "mcap-writer", move |ends| {
-            write_batches(w, ch, ends).map_err(|e| err_chain(&mcap_path, &e))
+            write_batches(w, ch, ends).map_err(|e| err_io(&mcap_path, &e))
         })?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -353,18 +345,14 @@ impl McapWriter {
         }
         let mut w = self.worker.join()?;
         let path = self.path.clone();
-        let e = |x: mcap::McapError| err_chain(&path, &x);
+        let e = |x: std::io::Error| err_io(&path, &x);
         if !warnings.is_empty() {
             let metadata = warnings
                 .iter()
                 .enumerate()
                 .map(|(k, w)| (format!("warning {}", k + 1), w.clone()))
                 .collect();
-            w.write_metadata(&mcap::records::Metadata {
-                name: "warnings".into(),
-                metadata,
-            })
-            .map_err(e)?;
+            w.metadata("warnings", &metadata).map_err(e)?;
         }
         if let Some(s) = stopped {
             let metadata = [
@@ -373,16 +361,11 @@ impl McapWriter {
             ]
             .into_iter()
             .collect();
-            w.write_metadata(&mcap::records::Metadata {
-                name: "stopped".into(),
-                metadata,
-            })
-            .map_err(e)?;
+            w.metadata("stopped", &metadata).map_err(e)?;
         }
-        w.finish().map_err(e)?;
         let f = w
-            .into_inner()
-            .into_inner()
+            .finish()
+            .map_err(e)?
             .into_inner()
             .map_err(|x| err_io(&path, x.error()))?;
         self.target.commit(&f, &path)?;

@@ -26,6 +26,7 @@ use std::path::{Path, PathBuf};
 pub use crate::sim::{OutputError, Sink, Tee, Watched};
 
 mod csv;
+mod mcap_chunks;
 mod mcap_file;
 mod paths;
 mod proto;
