@@ -18,6 +18,12 @@ declare -A wall mem
 run() { # name, flags...
     local name=$1
     shift
+    # Each run writes new files, as dd does below: replacing the previous
+    # run's files would add the kernel's freeing of their pages (0.6 s for
+    # ten minutes' logs here) to the run's time, and dd's file is removed
+    # off the clock.
+    rm -f "$dir/run.csv" "$dir/run.mcap"
+    sync
     /usr/bin/time -f "%e %M" -o "$dir/time" "$xtask" run hover-disturbed --duration "$dur" --sample 0.001 "$@" > /dev/null
     read -r t m < "$dir/time"
     wall[$name]+="$t "
@@ -34,6 +40,7 @@ mcap_bytes=$(stat -c %s "$dir/run.mcap")
 bytes=$((csv_bytes + mcap_bytes))
 dd_times=""
 for _ in $(seq "$rounds"); do
+    sync
     start=$(date +%s.%N)
     dd if=/dev/zero of="$dir/dd" bs=1M count=$(((bytes + 1048575) / 1048576)) conv=fsync status=none
     dd_times+="$(python3 -c "import sys; print(float(sys.argv[2]) - float(sys.argv[1]))" "$start" "$(date +%s.%N)") "

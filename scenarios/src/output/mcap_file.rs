@@ -120,17 +120,72 @@ fn nanos(t: f64) -> u64 {
     (t * 1e9).round() as u64
 }
 
-/// Messages formatted on the simulation's thread, handed to the writer
-/// thread in one piece.
-#[derive(Default)]
-struct Batch {
-    bytes: Vec<u8>,
-    /// (channel slot, log time in ns, end offset in `bytes`).
-    msgs: Vec<(u8, u64, usize)>,
+/// A sample's numbers that go into its messages, copied on the
+/// simulation's thread; the writer thread encodes them.
+#[derive(Clone, Copy)]
+struct Fixed {
+    t: f64,
+    x: [f64; 3],
+    xd: [f64; 3],
+    r: [[f64; 3]; 3],
+    rd: [[f64; 3]; 3],
+    psi: f64,
+    ex: f64,
+    omega: [f64; 3],
+    omega_d: [f64; 3],
+    thrust: f64,
+    moment: [f64; 3],
+    e_att: [f64; 3],
+    e_pos: [f64; 3],
+    wind: [f64; 3],
 }
 
-/// Messages per batch handed to the writer thread.
-const BATCH: usize = 4096;
+impl Fixed {
+    fn of(s: &Sample) -> Self {
+        Self {
+            t: s.t,
+            x: s.x,
+            xd: s.xd,
+            r: s.r,
+            rd: s.rd,
+            psi: s.psi,
+            ex: s.ex,
+            omega: s.omega,
+            omega_d: s.omega_d,
+            thrust: s.thrust,
+            moment: s.moment,
+            e_att: s.e_att,
+            e_pos: s.e_pos,
+            wind: s.wind,
+        }
+    }
+}
+
+/// What the simulation's thread hands the writer thread in one piece: the
+/// samples (copied, encoded there) and the mode switches (encoded here,
+/// rare), in order.
+#[derive(Default)]
+struct Batch {
+    samples: Vec<Fixed>,
+    /// Each sample's rotor thrusts, then its vehicle states.
+    extra: Vec<f64>,
+    /// The switches' messages.
+    bytes: Vec<u8>,
+    items: Vec<Item>,
+}
+
+enum Item {
+    /// The next sample, with how many rotor thrusts and vehicle states
+    /// follow in `extra`.
+    Sample { rotors: usize, states: usize },
+    /// The next `len` bytes of `bytes`: a message on channel slot `slot`
+    /// at `ns`.
+    Encoded { slot: u8, ns: u64, len: usize },
+}
+
+/// Items per batch handed to the writer thread (a sample is six messages
+/// or more).
+const BATCH: usize = 1024;
 
 /// The channel slot of `/vehicle/states` (created at its first message).
 const STATES_SLOT: u8 = 7;
@@ -145,12 +200,6 @@ const LIBRARY: &str = concat!("geopid-scenarios/", env!("CARGO_PKG_VERSION"));
 /// Chunks close once their records pass this size.
 const CHUNK_TARGET: usize = 4 << 20;
 
-/// Appends one protobuf message to `buf` (a growing `Vec` never runs out
-/// of room, so this fails only on a message the type cannot encode).
-fn enc<M: foxglove::Encode>(buf: &mut Vec<u8>, path: &Path, m: &M) -> Result<(), OutputError> {
-    m.encode(buf).map_err(|x| err(path, x))
-}
-
 /// Adds a protobuf schema from the `foxglove` crate's description of a
 /// message type.
 fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> std::io::Result<u16> {
@@ -158,49 +207,157 @@ fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> std::io::Result
     w.add_schema(&s.name, &s.encoding, &s.data)
 }
 
-/// The writer thread: writes each batch's messages, creating the states
-/// and wind channels at their first messages; returns the writer for
-/// `finish`.
+/// The channels on the writer thread: their ids, sequence numbers, and
+/// the states and wind channels created at their first messages.
+struct Channels {
+    w: Mcap,
+    ch: [u16; 7],
+    seq: [u32; 9],
+    /// Channels created on demand: (slot, topic, schema, id once created).
+    lazy: [(u8, &'static str, Option<foxglove::Schema>, Option<u16>); 2],
+    messages: u64,
+}
+
+impl Channels {
+    fn new(w: Mcap, ch: [u16; 7]) -> Self {
+        let states = msg::VehicleStates::get_schema();
+        Self {
+            w,
+            ch,
+            seq: [0; 9],
+            lazy: [
+                (STATES_SLOT, STATES_TOPIC, states, None),
+                (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
+            ],
+            messages: 0,
+        }
+    }
+
+    /// Writes one encoded message on channel slot `slot`.
+    fn put(&mut self, slot: u8, ns: u64, data: &[u8]) -> std::io::Result<()> {
+        let channel_id = match self.lazy.iter_mut().find(|l| l.0 == slot) {
+            Some((_, _, _, Some(id))) => *id,
+            Some((_, topic, schema, id)) => {
+                let schema = add_schema(&mut self.w, schema.take())?;
+                let new = self
+                    .w
+                    .add_channel(schema, topic, "protobuf", &BTreeMap::new())?;
+                *id = Some(new);
+                new
+            }
+            None => self.ch[usize::from(slot)],
+        };
+        let k = usize::from(slot);
+        self.seq[k] = self.seq[k].wrapping_add(1);
+        self.messages += 1;
+        self.w.message(channel_id, self.seq[k], ns, data)
+    }
+}
+
+/// A sample's messages, encoded on the writer thread.
+#[derive(Default)]
+struct SampleMessages {
+    buf: Vec<u8>,
+    next_static_ns: u64,
+    wind_on: bool,
+}
+
+impl SampleMessages {
+    /// Encodes the message `f` appends and writes it on `slot`.
+    fn one(
+        &mut self,
+        out: &mut Channels,
+        slot: u8,
+        ns: u64,
+        f: impl FnOnce(&mut Vec<u8>),
+    ) -> std::io::Result<()> {
+        self.buf.clear();
+        f(&mut self.buf);
+        out.put(slot, ns, &self.buf)
+    }
+
+    fn write(
+        &mut self,
+        out: &mut Channels,
+        s: &Fixed,
+        rotors: &[f64],
+        states: &[f64],
+    ) -> std::io::Result<()> {
+        let ns = nanos(s.t);
+        let at = proto::sec_nsec(ns);
+        let q = quaternion_xyzw(&s.r);
+        let qd = quaternion_xyzw(&s.rd);
+        self.one(out, 0, ns, |b| proto::pose_in_frame(b, at, "ned", s.x, q))?;
+        self.one(out, 1, ns, |b| proto::pose_in_frame(b, at, "ned", s.xd, qd))?;
+        // world (z up) → ned: a half turn about x, (x, y, z, w). It never
+        // changes, so it goes out at most every STATIC_TF_NS of simulated
+        // time (Foxglove holds a transform until a newer one comes): at
+        // 1 kHz sampling, a tenth of the log's bytes saved.
+        if ns >= self.next_static_ns {
+            self.next_static_ns = ns.saturating_add(STATIC_TF_NS);
+            let half_turn_x = [1.0, 0.0, 0.0, 0.0];
+            self.one(out, 2, ns, |b| {
+                proto::frame_transform(b, at, "world", "ned", [0.0; 3], half_turn_x)
+            })?;
+        }
+        self.one(out, 2, ns, |b| {
+            proto::frame_transform(b, at, "ned", "body", s.x, q)
+        })?;
+        let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
+        self.one(out, 3, ns, |b| {
+            proto::errors(b, s.psi, s.ex, e_x, s.omega, s.omega_d)
+        })?;
+        self.one(out, 4, ns, |b| {
+            proto::command(b, s.thrust, s.moment, rotors)
+        })?;
+        self.one(out, 5, ns, |b| proto::integrals(b, s.e_att, s.e_pos))?;
+        if !states.is_empty() {
+            // Only a vehicle with internal states gets their channel
+            // (created at the first message).
+            self.one(out, STATES_SLOT, ns, |b| proto::vehicle_states(b, states))?;
+        }
+        self.wind_on |= s.wind != [0.0; 3];
+        if self.wind_on {
+            self.one(out, WIND_SLOT, ns, |b| proto::vector3(b, s.wind))?;
+        }
+        Ok(())
+    }
+}
+
+/// The writer thread: encodes and writes each batch's samples and writes
+/// its switches; returns the writer for `finish`, and the message count.
 fn write_batches(
-    mut w: Mcap,
+    w: Mcap,
     ch: [u16; 7],
     (rx, back): WorkerEnds<Batch>,
-) -> std::io::Result<Mcap> {
-    let mut seq = [0u32; 9];
-    // Channels created on demand: (slot, topic, schema, id once created).
-    let mut lazy: [(u8, &str, Option<foxglove::Schema>, Option<u16>); 2] = [
-        (
-            STATES_SLOT,
-            STATES_TOPIC,
-            msg::VehicleStates::get_schema(),
-            None,
-        ),
-        (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
-    ];
+) -> std::io::Result<(Mcap, u64)> {
+    let mut out = Channels::new(w, ch);
+    let mut enc = SampleMessages::default();
     for mut batch in rx {
-        let mut start = 0;
-        for &(slot, ns, end) in &batch.msgs {
-            let channel_id = match lazy.iter_mut().find(|l| l.0 == slot) {
-                Some((_, _, _, Some(id))) => *id,
-                Some((_, topic, schema, id)) => {
-                    let schema = add_schema(&mut w, schema.take())?;
-                    let new = w.add_channel(schema, topic, "protobuf", &BTreeMap::new())?;
-                    *id = Some(new);
-                    new
+        let (mut sample, mut extra, mut byte) = (0, 0, 0);
+        for item in &batch.items {
+            match *item {
+                Item::Sample { rotors, states } => {
+                    let xs = &batch.extra[extra..extra + rotors + states];
+                    let (r, st) = xs.split_at(rotors);
+                    enc.write(&mut out, &batch.samples[sample], r, st)?;
+                    sample += 1;
+                    extra += rotors + states;
                 }
-                None => ch[usize::from(slot)],
-            };
-            let k = usize::from(slot);
-            seq[k] = seq[k].wrapping_add(1);
-            w.message(channel_id, seq[k], ns, &batch.bytes[start..end])?;
-            start = end;
+                Item::Encoded { slot, ns, len } => {
+                    out.put(slot, ns, &batch.bytes[byte..byte + len])?;
+                    byte += len;
+                }
+            }
         }
+        batch.samples.clear();
+        batch.extra.clear();
         batch.bytes.clear();
-        batch.msgs.clear();
+        batch.items.clear();
         // The writer gone (its run failed) needs no buffers back.
         let _ = back.send(batch);
     }
-    Ok(w)
+    Ok((out.w, out.messages))
 }
 
 /// Streams a run to an MCAP log: poses as `foxglove.PoseInFrame` (frame
@@ -220,22 +377,21 @@ fn write_batches(
 /// encoding time and 30 % fewer bytes (doubles are copied, not formatted);
 /// see the README for the measurement.
 ///
-/// The messages are encoded on the caller's thread and written (record
-/// framing into chunks, message indexes, I/O) by a thread of the writer's
-/// own, through a bounded queue: on two cores, the writing overlaps the
-/// simulation, and a writer slower than the simulation slows it down
-/// instead of piling up samples in memory. The file's layout is the `mcap`
-/// crate's, written by this crate (its per-message path was half of an
-/// `--mcap` run's instructions).
+/// The caller's thread only copies each sample's numbers; a thread of the
+/// writer's own encodes the messages and writes them (record framing into
+/// chunks, message indexes, I/O), through a bounded queue: on two cores,
+/// the writing overlaps the simulation, and a writer slower than the
+/// simulation slows it down instead of piling up samples in memory. The
+/// file's layout is the `mcap` crate's, written by this crate (its
+/// per-message path was half of an `--mcap` run's instructions, and with
+/// it gone the writer thread has room for the encoding the simulation's
+/// thread did before).
 pub struct McapWriter {
     path: PathBuf,
     target: Target,
     batch: Batch,
-    worker: Worker<Batch, Mcap>,
+    worker: Worker<Batch, (Mcap, u64)>,
     mode_names: Vec<&'static str>,
-    messages: u64,
-    next_static_ns: u64,
-    wind_on: bool,
 }
 
 /// The longest simulated time between two `world → ned` transforms, ns.
@@ -283,22 +439,13 @@ impl McapWriter {
             batch: Batch::default(),
             worker,
             mode_names: Vec::new(),
-            messages: 0,
-            next_static_ns: 0,
-            wind_on: false,
         })
     }
 
-    /// Messages written so far.
-    pub fn messages(&self) -> u64 {
-        self.messages
-    }
-
-    /// Ends the message being formatted at the end of the batch buffer.
-    fn put(&mut self, slot: u8, ns: u64) -> Result<(), OutputError> {
-        self.batch.msgs.push((slot, ns, self.batch.bytes.len()));
-        self.messages += 1;
-        if self.batch.msgs.len() >= BATCH {
+    /// Queues an item, handing the batch over when it is full.
+    fn push(&mut self, item: Item) -> Result<(), OutputError> {
+        self.batch.items.push(item);
+        if self.batch.items.len() >= BATCH {
             self.send()?;
         }
         Ok(())
@@ -306,8 +453,10 @@ impl McapWriter {
 
     fn send(&mut self) -> Result<(), OutputError> {
         let next = self.worker.recycled().unwrap_or_else(|| Batch {
-            bytes: Vec::with_capacity(self.batch.bytes.capacity()),
-            msgs: Vec::with_capacity(BATCH),
+            samples: Vec::with_capacity(BATCH),
+            extra: Vec::with_capacity(self.batch.extra.capacity()),
+            bytes: Vec::new(),
+            items: Vec::with_capacity(BATCH),
         });
         let batch = std::mem::replace(&mut self.batch, next);
         self.worker.send(batch)
@@ -321,13 +470,15 @@ impl McapWriter {
             to: u32::try_from(to).unwrap_or(u32::MAX),
             mode: name.to_string(),
         };
-        self.encode(&m)?;
-        self.put(6, nanos(t))
-    }
-
-    /// Appends one protobuf message to the batch buffer.
-    fn encode<M: foxglove::Encode>(&mut self, m: &M) -> Result<(), OutputError> {
-        enc(&mut self.batch.bytes, &self.path, m)
+        let before = self.batch.bytes.len();
+        m.encode(&mut self.batch.bytes)
+            .map_err(|x| err(&self.path, x))?;
+        let len = self.batch.bytes.len() - before;
+        self.push(Item::Encoded {
+            slot: 6,
+            ns: nanos(t),
+            len,
+        })
     }
 
     /// Writes what is queued, then the run's warnings (a `warnings`
@@ -340,10 +491,10 @@ impl McapWriter {
         warnings: &[String],
         stopped: Option<&Stopped>,
     ) -> Result<u64, OutputError> {
-        if !self.batch.msgs.is_empty() {
+        if !self.batch.items.is_empty() {
             self.send()?;
         }
-        let mut w = self.worker.join()?;
+        let (mut w, messages) = self.worker.join()?;
         let path = self.path.clone();
         let e = |x: std::io::Error| err_io(&path, &x);
         if !warnings.is_empty() {
@@ -369,7 +520,7 @@ impl McapWriter {
             .into_inner()
             .map_err(|x| err_io(&path, x.error()))?;
         self.target.commit(&f, &path)?;
-        Ok(self.messages)
+        Ok(messages)
     }
 }
 
@@ -387,52 +538,13 @@ impl Sink for McapWriter {
     }
 
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
-        let ns = nanos(s.t);
-        let at = proto::sec_nsec(ns);
-        let q = quaternion_xyzw(&s.r);
-        let qd = quaternion_xyzw(&s.rd);
-        proto::pose_in_frame(&mut self.batch.bytes, at, "ned", s.x, q);
-        self.put(0, ns)?;
-        proto::pose_in_frame(&mut self.batch.bytes, at, "ned", s.xd, qd);
-        self.put(1, ns)?;
-        // world (z up) → ned: a half turn about x, (x, y, z, w). It never
-        // changes, so it goes out at most every STATIC_TF_NS of simulated
-        // time (Foxglove holds a transform until a newer one comes): at
-        // 1 kHz sampling, a tenth of the log's bytes saved.
-        if ns >= self.next_static_ns {
-            self.next_static_ns = ns.saturating_add(STATIC_TF_NS);
-            let half_turn_x = [1.0, 0.0, 0.0, 0.0];
-            proto::frame_transform(
-                &mut self.batch.bytes,
-                at,
-                "world",
-                "ned",
-                [0.0; 3],
-                half_turn_x,
-            );
-            self.put(2, ns)?;
-        }
-        proto::frame_transform(&mut self.batch.bytes, at, "ned", "body", s.x, q);
-        self.put(2, ns)?;
-        let e_x = [s.x[0] - s.xd[0], s.x[1] - s.xd[1], s.x[2] - s.xd[2]];
-        proto::errors(&mut self.batch.bytes, s.psi, s.ex, e_x, s.omega, s.omega_d);
-        self.put(3, ns)?;
-        proto::command(&mut self.batch.bytes, s.thrust, s.moment, &s.rotors);
-        self.put(4, ns)?;
-        proto::integrals(&mut self.batch.bytes, s.e_att, s.e_pos);
-        self.put(5, ns)?;
-        if !s.vehicle_states.is_empty() {
-            // Only a vehicle with internal states gets their channel (the
-            // writer thread creates it at the first message).
-            proto::vehicle_states(&mut self.batch.bytes, &s.vehicle_states);
-            self.put(STATES_SLOT, ns)?;
-        }
-        self.wind_on |= s.wind != [0.0; 3];
-        if self.wind_on {
-            proto::vector3(&mut self.batch.bytes, s.wind);
-            self.put(WIND_SLOT, ns)?;
-        }
-        Ok(())
+        self.batch.samples.push(Fixed::of(s));
+        self.batch.extra.extend_from_slice(&s.rotors);
+        self.batch.extra.extend_from_slice(&s.vehicle_states);
+        self.push(Item::Sample {
+            rotors: s.rotors.len(),
+            states: s.vehicle_states.len(),
+        })
     }
 }
 
