@@ -206,7 +206,7 @@ impl<W: Write> ChunkedMcap<W> {
             put_str(b, b"")?;
             put_str(b, library.as_bytes())
         })?;
-        w.emit_owned(b)?;
+        w.emit(&b)?;
         Ok(w)
     }
 
@@ -214,10 +214,6 @@ impl<W: Write> ChunkedMcap<W> {
         self.out.write_all(b)?;
         self.pos += b.len() as u64;
         Ok(())
-    }
-
-    fn emit_owned(&mut self, b: Vec<u8>) -> io::Result<()> {
-        self.emit(&b)
     }
 
     fn open_chunk(&mut self) -> &mut OpenChunk {
@@ -401,7 +397,7 @@ impl<W: Write> ChunkedMcap<W> {
             put_string_map(b, entries)
         })?;
         self.metadata.push((self.pos, b.len() as u64, name.into()));
-        self.emit_owned(b)
+        self.emit(&b)
     }
 
     /// Closes the open chunk, writes the data section's end, the summary,
@@ -413,10 +409,9 @@ impl<W: Write> ChunkedMcap<W> {
             put_u32(b, 0);
             Ok(())
         })?;
-        self.emit_owned(b)?;
+        self.emit(&b)?;
         let summary_start = self.pos;
-        let (s, offsets_start) = self.summary()?;
-        let mut s = s;
+        let (mut s, offsets_start) = self.summary()?;
         // The footer's CRC covers the summary and the footer's fields
         // before it.
         s.push(op::FOOTER);
@@ -426,7 +421,7 @@ impl<W: Write> ChunkedMcap<W> {
         let crc = crc32fast::hash(&s);
         put_u32(&mut s, crc);
         s.extend_from_slice(MAGIC);
-        self.emit_owned(s)?;
+        self.emit(&s)?;
         self.out.flush()?;
         Ok(self.out)
     }
