@@ -57,12 +57,17 @@ use num_traits::{One, Zero};
 ///     assert!((col - jr.column(k)).norm() < 1e-15);
 /// }
 /// ```
+// The derivatives first and the whole aligned to 32 bytes: their vectors
+// (four `f64` each) then never straddle a cache line, and the copies of a
+// value are whole aligned vector moves. 128 bytes for 12 directions
+// instead of 104, and a gradient 7 % faster (paper-flip, 12 parameters).
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
 pub struct Dual<const N: usize> {
-    /// The value: bit for bit what the `f64` computation gives.
-    pub re: f64,
     /// The derivatives of the value along each seeded direction.
     pub eps: [f64; N],
+    /// The value: bit for bit what the `f64` computation gives.
+    pub re: f64,
 }
 
 impl<const N: usize> Dual<N> {

@@ -42,7 +42,7 @@ use lie::{Backend, Dual, NalgebraDual, NalgebraF64, Real, S, SimdReal};
 
 use crate::from_scene::{Seeds, builder_from};
 use crate::scene::{Scene, VehicleKind};
-use crate::sim::{SimState, Simulation};
+use crate::sim::{RunOptions, SimState, Simulation};
 use crate::{Registry, SceneError, SimError};
 
 pub use crate::from_scene::{PARAMETERS, parameter_mut};
@@ -107,16 +107,28 @@ pub fn gradient<const K: usize>(
 
 /// Runs `sim` to `duration`, calling `at` at `every, 2·every, …` and at
 /// the duration.
+///
+/// No samples are recorded (the cost reads the state where the run
+/// pauses), and the per-step extrema only when `extrema` asks for the
+/// largest thrust: each costs a controller evaluation per step, a fifth
+/// of a dual run's work, and neither moves a step, so the flight is the
+/// one a recorded run flies.
 fn fly<B: Backend>(
     mut sim: Simulation<'static, B>,
     duration: f64,
     every: f64,
+    extrema: bool,
     mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), SimError>,
 ) -> Result<f64, SimError> {
+    let opts = || RunOptions {
+        record: false,
+        extrema,
+        ..RunOptions::default()
+    };
     let mut k = 1u64;
     loop {
         let t = (k as f64 * every).min(duration);
-        sim.advance_to(t)?;
+        sim.advance_to_with(t, opts())?;
         at(t, &sim.state())?;
         if t >= duration {
             return Ok(sim.output().max_thrust);
@@ -135,7 +147,7 @@ fn fly_dual<const K: usize>(
     cost: &mut impl FnMut(f64, &SimState<'_, NalgebraDual<K>>) -> Dual<K>,
 ) -> Result<Dual<K>, SimError> {
     let mut total = Dual::constant(0.0);
-    fly(sim, duration, every, |t, state| {
+    fly(sim, duration, every, false, |t, state| {
         if let Some(e) = non_finite_derivative(state, seeds) {
             return Err(e);
         }
@@ -296,6 +308,7 @@ fn plain_flight<C: Cost>(
         builder_from(scene, vehicle, plan, Seeds::NONE)?.build()?,
         scene.duration,
         every,
+        true,
         &mut add,
     )?;
     Ok((total, max_thrust))
