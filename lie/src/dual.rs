@@ -22,6 +22,12 @@ use num_traits::{One, Zero};
 /// loop is only the derivative *of the flight that was flown* when the
 /// primal run is that flight.
 ///
+/// The derivatives are not bound to the same rule: where the build has FMA
+/// (`target-cpu=x86-64-v3` or newer), the product and quotient rules fuse
+/// their multiply-adds (a quarter off a gradient), so derivatives may
+/// differ in the last bits from one build to another; the real part never
+/// does.
+///
 /// Comparisons (`==`, `<`, and [`SimdReal::simd_lt`]) read the real part
 /// only, so every branch, step-size decision and event takes the path the
 /// `f64` run takes. [`SimdReal::simd_eq`] compares the derivatives too: it
@@ -198,12 +204,26 @@ impl<const N: usize> Mul for Dual<N> {
     fn mul(self, o: Self) -> Self {
         let mut eps = self.eps;
         for (e, d) in eps.iter_mut().zip(&o.eps) {
-            *e = *e * o.re + d * self.re;
+            *e = madd(*e, o.re, d * self.re);
         }
         Self {
             re: self.re * o.re,
             eps,
         }
+    }
+}
+
+/// `a·b + c`, fused where the build has FMA (derivatives only: the real
+/// part never uses it, so it stays the `f64` run's).
+#[inline(always)]
+fn madd(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(target_feature = "fma")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(target_feature = "fma"))]
+    {
+        a * b + c
     }
 }
 
@@ -215,7 +235,7 @@ impl<const N: usize> Div for Dual<N> {
         let inv = 1.0 / o.re;
         let mut eps = self.eps;
         for (e, d) in eps.iter_mut().zip(&o.eps) {
-            *e = (*e - re * d) * inv;
+            *e = madd(-re, *d, *e) * inv;
         }
         Self { re, eps }
     }
