@@ -323,7 +323,15 @@ impl<const N: usize> SimdReal for Dual<N> {
     /// Value *and* derivatives equal (see the type's docs).
     #[inline(always)]
     fn simd_eq(self, other: Self) -> bool {
-        self.re == other.re && self.eps == other.eps
+        // Every lane compared and the results and-ed, without the early
+        // exit of `==` on arrays (a call per comparison in the laws'
+        // diagonal-inertia test): the comparisons vectorise.
+        let same = self
+            .eps
+            .iter()
+            .zip(&other.eps)
+            .fold(true, |all, (a, b)| all & (a == b));
+        same & (self.re == other.re)
     }
     #[inline(always)]
     fn simd_lt(self, other: Self) -> bool {

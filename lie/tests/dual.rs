@@ -272,6 +272,15 @@ fn singular_points_and_branches() {
     let (a, b) = (Dual::<2>::variable(1.0, 0), Dual::<2>::variable(1.0, 1));
     assert!(a == b && a >= b && a <= b);
     assert!(!a.simd_eq(b) && a.simd_eq(a));
+    // Every direction is read (the last one of three vectors' worth too),
+    // and the value; a NaN derivative is equal to nothing.
+    let c = Dual::<12>::variable(1.0, 11);
+    let mut d = c;
+    d.eps[11] = 0.5;
+    assert!(!c.simd_eq(d) && c.simd_eq(c));
+    assert!(!c.simd_eq(Dual::variable(1.5, 11)));
+    d.eps[11] = f64::NAN;
+    assert!(!d.simd_eq(d));
     let m = Real::max(Dual::<2>::variable(2.0, 1), a);
     assert_eq!((m.re, m.eps), (2.0, [0.0, 1.0]));
     let nan = Dual::<2>::nan();
