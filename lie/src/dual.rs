@@ -120,7 +120,8 @@ impl<const N: usize> Dual<N> {
     /// Every derivative is exactly zero.
     #[inline(always)]
     fn is_constant(&self) -> bool {
-        self.eps.iter().all(|&e| e == 0.0)
+        // Folded without an early exit, as in `simd_eq`: it vectorises.
+        self.eps.iter().fold(true, |all, &e| all & (e == 0.0))
     }
 }
 
@@ -599,11 +600,15 @@ impl<const N: usize> Real for Dual<N> {
     /// or met a singular point fails the same checks a NaN value fails.
     #[inline]
     fn is_finite(self) -> bool {
-        self.re.is_finite() && self.eps.iter().all(|e| e.is_finite())
+        // Folded without an early exit (the loads and the state are
+        // checked at every stage): the tests vectorise.
+        let eps = self.eps.iter().fold(true, |all, e| all & e.is_finite());
+        eps & self.re.is_finite()
     }
     #[inline]
     fn is_nan(self) -> bool {
-        self.re.is_nan() || self.eps.iter().any(|e| e.is_nan())
+        let eps = self.eps.iter().fold(false, |any, e| any | e.is_nan());
+        eps | self.re.is_nan()
     }
     #[inline(always)]
     fn epsilon() -> Self {

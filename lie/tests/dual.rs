@@ -281,6 +281,13 @@ fn singular_points_and_branches() {
     assert!(!c.simd_eq(Dual::variable(1.5, 11)));
     d.eps[11] = f64::NAN;
     assert!(!d.simd_eq(d));
+    // The checks of finiteness and the zero test read the last direction.
+    assert!(Real::is_nan(d) && !Real::is_finite(d) && Real::is_finite(c));
+    assert!(!Real::is_nan(c));
+    let mut z = Dual::<12>::constant(0.0);
+    assert!(num_traits::Zero::is_zero(&z));
+    z.eps[11] = 1e-300;
+    assert!(!num_traits::Zero::is_zero(&z));
     let m = Real::max(Dual::<2>::variable(2.0, 1), a);
     assert_eq!((m.re, m.eps), (2.0, [0.0, 1.0]));
     let nan = Dual::<2>::nan();
