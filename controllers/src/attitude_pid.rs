@@ -123,12 +123,11 @@ pub fn attitude_law<B: lie::SimdBackend, R: AttitudeErrors<B>>(
     e_i: V3<B>,
     reference: &AttitudeReference<B, R>,
 ) -> AttitudeOutput<B> {
-    let (rd, omega_d, omega_d_dot) = (reference.rd, reference.omega_d, reference.omega_d_dot);
-    let e = r.error_rotation(rd);
+    let e = r.error_rotation(reference.rd);
     let (e_r, psi) = e.errors_to_identity();
     // R^T R_d Ω_d and R^T R_d Ω̇_d: the desired rates seen in the body frame.
-    let w = e.inverse_act(omega_d);
-    let wd = e.inverse_act(omega_d_dot);
+    let w = e.inverse_act(reference.omega_d);
+    let wd = e.inverse_act(reference.omega_d_dot);
     let e_w = omega - w;
     // A principal-axes inertia (every shipped vehicle) takes 3 products
     // per J·v instead of 9, with the same values: the skipped terms are

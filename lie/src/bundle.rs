@@ -18,7 +18,13 @@ use crate::{LieGroup, M3, S, SimdBackend, SimdReal, So3Group, V3, so3};
 /// An element of SO(3) × ℝ³ × ℝ³ × ℝ³: the group operation is the
 /// rotation's composition and the vectors' sum (not a rigid motion's
 /// composition: see [`Se3`](crate::Se3) for that).
+///
+/// `repr(C)`: the state of an integrator (attitude as a matrix) and the
+/// same state as a group element (attitude as [`So3Mat`](crate::So3Mat),
+/// a transparent wrapper of that matrix) share one layout, so
+/// [`RigidState::as_group`] lends one as the other without a copy.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[repr(C)]
 pub struct RigidState<B: SimdBackend, R> {
     /// Attitude (body to inertial).
     pub r: R,
@@ -138,6 +144,21 @@ impl<B: crate::Backend> RigidState<B, M3<B>> {
 }
 
 impl<B: SimdBackend> RigidState<B, M3<B>> {
+    /// [`RigidState::group`] by reference: the same state, seen with its
+    /// attitude as an [`So3Mat`](crate::So3Mat) (unchecked), without a
+    /// copy. A closed loop hands its integrator's state to the controller
+    /// this way at every load evaluation: a copy of a state the stepper
+    /// has just written is read back with loads wider than its stores,
+    /// which miss store forwarding.
+    #[inline]
+    pub fn as_group(&self) -> &RigidState<B, crate::So3Mat<B>> {
+        // SAFETY: `RigidState` is `repr(C)` and `So3Mat<B>` is
+        // `repr(transparent)` over `M3<B>`, so the two types have the same
+        // size, alignment, field offsets and validity; the borrow keeps
+        // `self`'s lifetime. `So3Mat`'s rotation invariant is not checked,
+        // exactly as `group` (`from_matrix_unchecked`) does not check it.
+        unsafe { &*(self as *const Self).cast::<RigidState<B, crate::So3Mat<B>>>() }
+    }
     /// The same state with its attitude taken as a rotation (unchecked),
     /// for `⊕`/`⊖` on the whole state: the attitude perturbed on the right,
     /// the vectors additively.

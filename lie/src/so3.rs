@@ -102,6 +102,7 @@ pub use crate::convert::orthogonality_error;
 /// user's glam or nalgebra code for free; [`So3Mat::project`] is the checked
 /// way in.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[repr(transparent)]
 pub struct So3Mat<B: SimdBackend>(pub(crate) M3<B>);
 
 impl<B: SimdBackend> So3Mat<B> {

@@ -93,6 +93,13 @@ impl<B: Backend> PositionSource<B> for ScenePosition<B> {
             ScenePosition::Generated(p) => reference::position::<B>(p, t),
         }
     }
+    #[inline]
+    fn constant(&self) -> Option<&PositionReference<B>> {
+        match self {
+            ScenePosition::Const(r, _) => Some(r),
+            ScenePosition::Generated(_) => None,
+        }
+    }
     fn position_f64(&self, t: f64) -> [f64; 3] {
         match self {
             ScenePosition::Const(_, x) => *x,

@@ -241,7 +241,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         speeds: &mut Option<([S<B>; MAX_ROTORS], usize)>,
     ) -> Option<ModeOutput<B>> {
         let seg = self.plan.get_mut(self.active)?;
-        let st = y.body.group();
+        let st = y.body.as_group();
         let at = self.layout;
         // A rotor-speed mode answers once with both (its law may compute
         // the wrench on the way to the speeds); a wrench mode is asked for
@@ -251,7 +251,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             seg.mode
                 .command_with_speeds(
                     t,
-                    &st,
+                    st,
                     at.integrals(&y.extra),
                     at.integrals_mut(rates),
                     &mut self.speed_buf[..n],
@@ -264,7 +264,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 })
         } else {
             seg.mode
-                .command(t, &st, at.integrals(&y.extra), at.integrals_mut(rates))
+                .command(t, st, at.integrals(&y.extra), at.integrals_mut(rates))
         };
         self.settle(y, answer, |out| &mut out.moment)
     }
@@ -320,11 +320,15 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             });
         }
         let seg = self.plan.get_mut(self.active)?;
-        let st = y.body.group();
         let at = self.layout;
         let answer = seg
             .mode
-            .wrench(t, &st, at.integrals(&y.extra), at.integrals_mut(rates))
+            .wrench(
+                t,
+                y.body.as_group(),
+                at.integrals(&y.extra),
+                at.integrals_mut(rates),
+            )
             .map(|(thrust, moment)| Wrench { thrust, moment });
         self.settle(y, answer, |w| &mut w.moment)
     }
