@@ -273,3 +273,37 @@ impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for RigidState<B, R> {
         BlockDiag4(a.0.map(|m| m * S::<B>::simd_lit(-1.0)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{GlamF32, GlamF64, NalgebraF64, Real, Rotation, So3Mat};
+
+    /// `as_group` lends the very fields of the state (no copy), and what
+    /// it lends equals `group`'s copy, on both backends and scalars.
+    fn lends<B: crate::Backend>() {
+        let l = |a: f64, b: f64, c: f64| B::vec3(S::<B>::lit(a), S::<B>::lit(b), S::<B>::lit(c));
+        let st = RigidState::<B, M3<B>> {
+            r: So3Mat::<B>::exp(l(0.3, -0.2, 0.6)).matrix(),
+            x: l(1.0, -2.0, 3.0),
+            v: l(-0.5, 0.25, 0.125),
+            omega: l(0.7, -0.3, 0.4),
+        };
+        let lent = st.as_group();
+        assert_eq!(*lent, st.group());
+        assert!(core::ptr::eq(&lent.x, &st.x));
+        assert!(core::ptr::eq(&lent.omega, &st.omega));
+        assert!(core::ptr::eq(
+            (&lent.r as *const So3Mat<B>).cast::<M3<B>>(),
+            &st.r
+        ));
+        assert_eq!(lent.r.matrix(), st.r);
+    }
+
+    #[test]
+    fn as_group_lends_the_state_itself() {
+        lends::<NalgebraF64>();
+        lends::<GlamF64>();
+        lends::<GlamF32>();
+    }
+}
