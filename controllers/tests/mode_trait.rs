@@ -141,14 +141,19 @@ fn a_borrowed_mode_answers_as_the_mode() {
     assert_eq!(full.forced, vec![(1, SatBranch::Outside)]);
 }
 
-fn position_mode() -> PositionMode<B, HoldPosition<B>> {
+/// The paper's position mode (quadrotor, gains) on reference `src`.
+fn paper_position_mode<P: PositionSource<B>>(src: P) -> PositionMode<B, P> {
     PositionMode::new(
         RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
         PositionGains::paper(),
         AttitudeGains::paper(),
         AccelerationModel::Nominal,
-        HoldPosition(PositionReference::hold(V::zeros(), V::y())),
+        src,
     )
+}
+
+fn position_mode() -> PositionMode<B, HoldPosition<B>> {
+    paper_position_mode(HoldPosition(PositionReference::hold(V::zeros(), V::y())))
 }
 
 /// The register layouts the plan relies on: attitude `[e_I]`, position
@@ -262,20 +267,7 @@ fn a_held_reference_read_in_place_commands_what_a_computed_one_does() {
     assert_eq!(held.position(2.5), reference);
     let computed = move |_t: f64| reference;
     assert!(computed.constant().is_none());
-    let mut a = PositionMode::new(
-        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
-        PositionGains::paper(),
-        AttitudeGains::paper(),
-        AccelerationModel::Nominal,
-        held,
-    );
-    let mut b = PositionMode::new(
-        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
-        PositionGains::paper(),
-        AttitudeGains::paper(),
-        AccelerationModel::Nominal,
-        computed,
-    );
+    let (mut a, mut b) = (paper_position_mode(held), paper_position_mode(computed));
     let s = VehicleState::<B, R> {
         x: V::new(0.1, 0.2, -1.0),
         v: V::new(0.5, -0.4, 0.2),
