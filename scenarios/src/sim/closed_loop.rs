@@ -427,10 +427,9 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         let from = self.active;
         self.active += 1;
         self.speeds_mode = self.plan[self.active].mode.commands_rotor_speeds();
-        let st = y.body.group();
         self.plan[self.active].mode.enter(
             S::<B>::lit(t),
-            &st,
+            y.body.as_group(),
             self.layout.integrals_mut(&mut y.extra),
         );
         Some(SwitchRecord {
