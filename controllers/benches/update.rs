@@ -153,16 +153,19 @@ fn hand_benches(c: &mut Criterion) {
             c.benchmark_group("attitude")
                 .bench_function(concat!($name, "-hand"), |b| {
                     // The reference through black_box too, as the
-                    // generic law's: constants would be folded in.
+                    // generic law's: constants would be folded in. The
+                    // moment checked for finiteness, as `attitude_control`
+                    // checks it (and the position twin its output).
                     b.iter(|| {
-                        black_box(&$m::attitude(
+                        let out = $m::attitude(
                             black_box(i.r),
                             black_box(i.w),
                             black_box(i.eatt),
                             black_box(a.rd.matrix()),
                             black_box(a.omega_d),
                             black_box(a.omega_d_dot),
-                        ));
+                        );
+                        black_box(&out.0.is_finite().then_some(out));
                     })
                 });
         }};

@@ -41,26 +41,9 @@ macro_rules! hand {
                 v.is_finite()
             }
 
-            /// (M, e_R, e_Ω, Ψ, ė_I) against R_d with Ω_d, Ω̇_d, `None` for a
-            /// non-finite moment: the checked update, as `attitude_control`
-            /// checks it (and the position twin its output).
+            /// (M, e_R, e_Ω, Ψ, ė_I) against R_d with Ω_d, Ω̇_d.
             #[inline]
             pub fn attitude(
-                r: $mat,
-                w: $v,
-                eatt: $v,
-                rd: $mat,
-                wd: $v,
-                wdd: $v,
-            ) -> Option<($v, $v, $v, $s, $v)> {
-                let out = attitude_law(r, w, eatt, rd, wd, wdd);
-                fin(out.0).then_some(out)
-            }
-
-            /// The attitude law without the check: what the position law
-            /// calls (it checks its own output), as `attitude_law`.
-            #[inline]
-            pub fn attitude_law(
                 r: $mat,
                 w: $v,
                 eatt: $v,
@@ -169,7 +152,7 @@ macro_rules! hand {
                 let wc = <$v>::new(w1, w2, w3);
                 let wcd = <$v>::new(b3b2dd - w2 * w3, b1b3dd - w3 * w1, -b1b2dd + w1 * w2);
                 let rc = <$mat>::from_cols(b1, b2, b3);
-                let (m, er, ew, psi, eatt_rate) = attitude_law(i.r, i.w, i.eatt, rc, wc, wcd);
+                let (m, er, ew, psi, eatt_rate) = attitude(i.r, i.w, i.eatt, rc, wc, wcd);
                 (f.is_finite() && fin(m)).then_some(Out {
                     f,
                     m,
