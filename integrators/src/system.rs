@@ -23,19 +23,26 @@ impl<B: Backend, const N: usize> State<B, N> {
         }
     }
 
-    pub(crate) fn non_finite_field(&self) -> Option<&'static str> {
-        // One branch-free test on the way through every step; the fields
-        // are told apart only when it fails.
+    /// Every number of the state is finite: one branch-free test, inlined
+    /// into each step's end (out of line, the new state was stored for it
+    /// and read back).
+    #[inline(always)]
+    pub(crate) fn is_finite(&self) -> bool {
         let b = &self.body;
-        let finite = ops::is_finite_mat::<B>(b.r)
+        ops::is_finite_mat::<B>(b.r)
             & ops::is_finite_vec::<B>(b.x)
             & ops::is_finite_vec::<B>(b.v)
             & ops::is_finite_vec::<B>(b.omega)
             & self
                 .extra
                 .iter()
-                .fold(true, |ok, e| ok & lie::Real::is_finite(*e));
-        if finite {
+                .fold(true, |ok, e| ok & lie::Real::is_finite(*e))
+    }
+
+    /// The first field that is not finite; the fields are told apart only
+    /// when [`State::is_finite`] fails.
+    pub(crate) fn non_finite_field(&self) -> Option<&'static str> {
+        if self.is_finite() {
             return None;
         }
         if let Some(f) = self.body.non_finite_field() {

@@ -66,3 +66,108 @@ fn check_inertia_names_the_failing_minor() {
     assert!(e.contains("det J"), "{e}");
     assert!(check_inertia::<B>(m([[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]])).is_ok());
 }
+
+/// A body whose load turns non-finite from its `bad_from`-th evaluation
+/// on (0-based), in the part `what` names.
+struct TurnsBad {
+    calls: usize,
+    bad_from: usize,
+    what: &'static str,
+    translates: bool,
+}
+
+impl System<B, 2> for TurnsBad {
+    fn mass(&self) -> f64 {
+        2.0
+    }
+    fn inertia(&self) -> lie::M3<B> {
+        ops::diag::<B>(1.0, 2.0, 3.0)
+    }
+    fn translates(&self) -> bool {
+        self.translates
+    }
+    fn load(&mut self, _: f64, _: &State<B, 2>) -> Load<B, 2> {
+        let bad = self.calls >= self.bad_from;
+        self.calls += 1;
+        let pick = |part: &str, x: f64| {
+            if bad && self.what == part {
+                f64::NAN
+            } else {
+                x
+            }
+        };
+        Load {
+            force: B::vec3(pick("force", 0.5), 0.0, -1.0),
+            moment: B::vec3(0.1, pick("moment", 0.2), 0.3),
+            extra_rate: [1.0, pick("extra", -1.0)],
+        }
+    }
+}
+
+/// The explicit steppers test the loads once per step, at its end, and
+/// still report a non-finite load as `load` at the time of the first
+/// stage that returned one (RK4's stages are at t, t + h/2, t + h/2,
+/// t + h), leaving the state where the step began.
+#[test]
+fn a_non_finite_load_names_its_stage_time() {
+    let (t, h) = (1.0, 0.1);
+    let stage_times = [1.0, 1.05, 1.05, 1.1];
+    for what in ["force", "moment", "extra"] {
+        for (k, &ts) in stage_times.iter().enumerate() {
+            for mut rk in [Rk4::default(), Rk4::projected()] {
+                let mut sys = TurnsBad {
+                    calls: 0,
+                    bad_from: k,
+                    what,
+                    translates: true,
+                };
+                let start = State::<B, 2>::new(RigidBodyState::at_rest());
+                let mut y = start;
+                let e = rk.step(&mut sys, t, h, &mut y).unwrap_err();
+                match e {
+                    StepError::NonFinite { field, t: te } => {
+                        assert_eq!((field, te), ("load", ts), "{what} bad from stage {k}")
+                    }
+                    other => panic!("{what} bad from stage {k}: {other}"),
+                }
+                assert_eq!(y.body.r, start.body.r, "the failed step moved the state");
+                assert_eq!(y.extra, start.extra);
+            }
+        }
+        let mut sys = TurnsBad {
+            calls: 0,
+            bad_from: 0,
+            what,
+            translates: true,
+        };
+        let mut y = State::<B, 2>::new(RigidBodyState::at_rest());
+        let e = integrators::Euler::default()
+            .step(&mut sys, t, h, &mut y)
+            .unwrap_err();
+        assert!(
+            matches!(e, StepError::NonFinite { field: "load", t: te } if te == t),
+            "euler, {what}: {e}"
+        );
+    }
+}
+
+/// A body that does not translate never reads its force: a non-finite one
+/// does not stop it, and its position and velocity stay where they were.
+#[test]
+fn a_body_that_does_not_translate_ignores_its_force() {
+    let mut sys = TurnsBad {
+        calls: 0,
+        bad_from: 0,
+        what: "force",
+        translates: false,
+    };
+    let mut y = State::<B, 2>::new(RigidBodyState::at_rest());
+    Rk4::default()
+        .step(&mut sys, 0.0, 0.1, &mut y)
+        .expect("the force is not used");
+    assert_eq!(
+        (y.body.x, y.body.v),
+        (B::vec3(0.0, 0.0, 0.0), B::vec3(0.0, 0.0, 0.0))
+    );
+    assert!(y.body.omega.iter().all(|w| w.is_finite() && *w != 0.0));
+}

@@ -81,6 +81,9 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub evaluations: u64,
     /// The first input a mode rejected since it was last taken.
     pub error: Option<ControlError>,
+    /// The state that rejection came on was finite (see
+    /// [`ClosedLoop::complaint`]).
+    pub error_on_finite_state: bool,
     /// Where a mode writes rotor-speed commands (kept, not zeroed per
     /// evaluation: only a mode that writes them is read from it).
     pub speed_buf: [S<B>; MAX_ROTORS],
@@ -106,6 +109,16 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     inertia_inv: lie::M3<B>,
     pub evaluations: u64,
     wind_from: f64,
+}
+
+/// Every number of `y` is finite (asked on the error path only).
+fn state_is_finite<B: Backend, const N: usize>(y: &State<B, N>) -> bool {
+    let b = &y.body;
+    lie::ops::is_finite_mat::<B>(b.r)
+        && lie::ops::is_finite_vec::<B>(b.x)
+        && lie::ops::is_finite_vec::<B>(b.v)
+        && lie::ops::is_finite_vec::<B>(b.omega)
+        && y.extra.iter().all(|e| e.is_finite())
 }
 
 /// A load of NaNs: what a failed command hands the integrator, which then
@@ -147,6 +160,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             inertia_inv,
             evaluations: 0,
             error: None,
+            error_on_finite_state: true,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
             speeds_mode,
             wind_from: f64::NEG_INFINITY,
@@ -189,6 +203,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             inertia_inv: p.inertia_inv,
             evaluations: p.evaluations,
             error: None,
+            error_on_finite_state: true,
             speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
             speeds_mode,
             wind_from: p.wind_from,
@@ -292,10 +307,39 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 Some(out)
             }
             Err(e) => {
-                self.error.get_or_insert(e);
+                self.complain(y, e);
                 None
             }
         }
+    }
+
+    /// Keeps `e`, the first rejection since the last was taken, and
+    /// whether the state the mode was given was finite.
+    fn complain(&mut self, y: &State<B, N>, e: ControlError) {
+        if self.error.is_none() {
+            self.error = Some(e);
+            self.error_on_finite_state = state_is_finite::<B, N>(y);
+        }
+    }
+
+    /// The mode's rejection to report with a failed step, taken: `None`
+    /// when the mode was given a non-finite state. The explicit steppers
+    /// evaluate every stage of a step before they test its loads, so the
+    /// stages after one with a non-finite load (from the vehicle, say)
+    /// see a non-finite state, which the mode rejects: not the cause,
+    /// which the step's error names. (A state that overflowed inside a
+    /// step is the step's error too; a non-finite state set between two
+    /// calls is refused before the first step.)
+    pub fn complaint(&mut self) -> Option<ControlError> {
+        let c = self.error.take()?;
+        self.error_on_finite_state.then_some(c)
+    }
+
+    /// The error of the step from `t` of length `h` that failed with `e`,
+    /// with the mode's rejection that caused it, if one did.
+    pub fn step_error(&mut self, t: f64, h: f64, e: integrators::StepError) -> super::SimError {
+        let control = self.complaint();
+        super::SimError::step(t, h, e, control)
     }
 
     /// The wrench the active mode commands at `(t, y)`, its integral rates

@@ -147,7 +147,7 @@ impl<'o, 's> Emit<'o, 's> {
                     c.reset();
                     let stepped = c.step(sys, l(t0), l(tk - t0), &mut y);
                     sys.evaluations = counted;
-                    stepped.map_err(|e| SimError::step(t0, tk - t0, e, sys.error.take()))?;
+                    stepped.map_err(|e| sys.step_error(t0, tk - t0, e))?;
                     y
                 }
                 Extension::Hermite(r0, r1) => {

@@ -40,9 +40,10 @@ pub enum SimError {
         capacity: usize,
     },
     /// A step failed. When a mode rejected its input inside the step (a
-    /// non-finite state or reference reaching the law), `control` says
-    /// which input: that is the cause, and the integrator's error the
-    /// symptom.
+    /// non-finite reference, say) on a finite state, `control` says which
+    /// input: that is the cause, and the integrator's error the symptom.
+    /// A state that turned non-finite inside the step (a load that did, an
+    /// overflow) is the integrator's error alone.
     Step {
         /// Start of the step, s.
         t: f64,

@@ -150,7 +150,7 @@ pub(crate) fn split_at_crossing<B: Backend, const N: usize, I: Integrator<B, N>>
         if hc > 0.0 {
             let stats = stepper
                 .step(sys, l(t), l(hc), y)
-                .map_err(|e| SimError::step(t, hc, e, sys.error.take()))?;
+                .map_err(|e| sys.step_error(t, hc, e))?;
             steps += u64::from(stats.substeps.max(1));
         }
         let g = y.extra[c.slot].to_f64_lossless() - c.target;
@@ -238,7 +238,7 @@ pub(crate) fn event_derivatives<'s, 'a, B: Backend, const N: usize, I: Integrato
                 stepper.step(sys, t_s, hc, &mut yy)
             }
         };
-        stepped.map_err(|e| SimError::step(t, hc.to_f64_lossless(), e, sys.error.take()))?;
+        stepped.map_err(|e| sys.step_error(t, hc.to_f64_lossless(), e))?;
         Ok::<_, SimError>(yy)
     };
     let hc = tc - t;
@@ -303,7 +303,7 @@ pub(crate) fn locate_condition<B: Backend, const N: usize, I: Integrator<B, N>>(
         stepper.reset();
         stepper
             .step(sys, l(t), l(mid), &mut ym)
-            .map_err(|e| SimError::step(t, mid, e, sys.error.take()))?;
+            .map_err(|e| sys.step_error(t, mid, e))?;
         if holds(sys, t + mid, &ym) {
             hi = mid;
             y_hi = ym;

@@ -172,10 +172,14 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
         guard,
         running: r,
         perturbed,
+        layout,
         ..
     } = sim;
     if r.done.is_some() {
         return Ok(());
+    }
+    if *perturbed {
+        check_set_state(y, *layout)?;
     }
     let mut sys = ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), plan, &r.parked);
     if !r.started {
@@ -255,6 +259,32 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     }
     running.out.termination = running.done.unwrap_or(Termination::Completed);
     Ok(running.out)
+}
+
+/// A state set between two calls ([`super::Simulation::state_mut`]) is
+/// finite: a non-finite one is refused with its field before a step or a
+/// command reads it.
+fn check_set_state<B: Backend, const N: usize>(
+    y: &State<B, N>,
+    layout: Layout,
+) -> Result<(), SimError> {
+    let bad = |xs: &[S<B>]| xs.iter().any(|x| !lie::Real::is_finite(*x));
+    let field = y.body.non_finite_field().or_else(|| {
+        if bad(layout.integrals(&y.extra)) {
+            Some("integrals")
+        } else if bad(layout.vehicle_states(&y.extra)) {
+            Some("vehicle_states")
+        } else {
+            None
+        }
+    });
+    match field {
+        Some(f) => Err(SimError::Setting {
+            field: "state",
+            message: format!("`{f}` was set to a value that is not finite"),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// What one call of `advance_to` works on.
@@ -434,7 +464,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
     /// blow-up is somewhere inside the call); anything else is an error,
     /// with the mode's complaint when one came first.
     fn failed_step(&mut self, e: integrators::StepError, t: f64, h: f64) -> Result<(), SimError> {
-        let control = self.sys.error.take();
+        let control = self.sys.complaint();
         if let (Some(cap), integrators::StepError::TooManySubsteps { .. }, None) =
             (self.guard.substeps, &e, control)
         {
