@@ -27,7 +27,7 @@ impl<B: Backend, const N: usize> State<B, N> {
     /// into each step's end (out of line, the new state was stored for it
     /// and read back).
     #[inline(always)]
-    pub(crate) fn is_finite(&self) -> bool {
+    pub fn is_finite(&self) -> bool {
         let b = &self.body;
         ops::is_finite_mat::<B>(b.r)
             & ops::is_finite_vec::<B>(b.x)

@@ -111,16 +111,6 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     wind_from: f64,
 }
 
-/// Every number of `y` is finite (asked on the error path only).
-fn state_is_finite<B: Backend, const N: usize>(y: &State<B, N>) -> bool {
-    let b = &y.body;
-    lie::ops::is_finite_mat::<B>(b.r)
-        && lie::ops::is_finite_vec::<B>(b.x)
-        && lie::ops::is_finite_vec::<B>(b.v)
-        && lie::ops::is_finite_vec::<B>(b.omega)
-        && y.extra.iter().all(|e| e.is_finite())
-}
-
 /// A load of NaNs: what a failed command hands the integrator, which then
 /// stops on a non-finite state (the error is kept for the report).
 fn nan_load<B: Backend, const N: usize>() -> Load<B, N> {
@@ -318,7 +308,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     fn complain(&mut self, y: &State<B, N>, e: ControlError) {
         if self.error.is_none() {
             self.error = Some(e);
-            self.error_on_finite_state = state_is_finite::<B, N>(y);
+            self.error_on_finite_state = y.is_finite();
         }
     }
 

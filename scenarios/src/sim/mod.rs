@@ -374,8 +374,10 @@ impl<B: Backend> Simulation<'_, B> {
     /// on the same step grid (the stepper forgets its cached loads, a law
     /// held at a breakpoint branch picks its branch from the state again;
     /// under sampled control the held command stays until the next control
-    /// instant, as on a flight computer). Change it only to finite values:
-    /// the first step checks them. Before the first step, the vehicle's
+    /// instant, as on a flight computer). A value that is not finite is
+    /// refused by the next `advance_to` ([`SimError::Setting`] naming the
+    /// field), before any step or command reads it. Before the first
+    /// step, the vehicle's
     /// internal states are still to be set from the first command; to
     /// start from states of one's own, give them to the builder
     /// ([`SimulationBuilder::vehicle_states`]), which keeps them.
