@@ -49,6 +49,23 @@ impl Layout {
     pub fn vehicle_states_mut<T>(self, slots: &mut [T]) -> &mut [T] {
         &mut slots[self.integrals..self.in_use()]
     }
+    /// The first part of `y` that is not finite (`r`, `x`, `v`, `omega`,
+    /// `integrals`, `vehicle_states`), if any.
+    pub fn non_finite_part<B: Backend, const N: usize>(
+        self,
+        y: &State<B, N>,
+    ) -> Option<&'static str> {
+        let bad = |xs: &[S<B>]| xs.iter().any(|x| !x.is_finite());
+        y.body.non_finite_field().or_else(|| {
+            if bad(self.integrals(&y.extra)) {
+                Some("integrals")
+            } else if bad(self.vehicle_states(&y.extra)) {
+                Some("vehicle_states")
+            } else {
+                None
+            }
+        })
+    }
     /// Both parts of `slots`, to write.
     pub fn split_mut<T>(self, slots: &mut [T]) -> (&mut [T], &mut [T]) {
         let (integrals, rest) = slots.split_at_mut(self.integrals);

@@ -178,8 +178,13 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
     if r.done.is_some() {
         return Ok(());
     }
-    if *perturbed {
-        check_set_state(y, *layout)?;
+    // A state set between two calls is refused before a step or a command
+    // reads it.
+    if *perturbed && let Some(f) = layout.non_finite_part(y) {
+        return Err(SimError::Setting {
+            field: "state",
+            message: format!("`{f}` was set to a value that is not finite"),
+        });
     }
     let mut sys = ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), plan, &r.parked);
     if !r.started {
@@ -259,32 +264,6 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     }
     running.out.termination = running.done.unwrap_or(Termination::Completed);
     Ok(running.out)
-}
-
-/// A state set between two calls ([`super::Simulation::state_mut`]) is
-/// finite: a non-finite one is refused with its field before a step or a
-/// command reads it.
-fn check_set_state<B: Backend, const N: usize>(
-    y: &State<B, N>,
-    layout: Layout,
-) -> Result<(), SimError> {
-    let bad = |xs: &[S<B>]| xs.iter().any(|x| !lie::Real::is_finite(*x));
-    let field = y.body.non_finite_field().or_else(|| {
-        if bad(layout.integrals(&y.extra)) {
-            Some("integrals")
-        } else if bad(layout.vehicle_states(&y.extra)) {
-            Some("vehicle_states")
-        } else {
-            None
-        }
-    });
-    match field {
-        Some(f) => Err(SimError::Setting {
-            field: "state",
-            message: format!("`{f}` was set to a value that is not finite"),
-        }),
-        None => Ok(()),
-    }
 }
 
 /// What one call of `advance_to` works on.
