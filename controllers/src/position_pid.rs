@@ -192,7 +192,10 @@ pub struct PositionOutput<B: lie::SimdBackend, R: AttitudeErrors<B>> {
     pub degeneracy: Degeneracy<Mask<B>>,
 }
 
-#[inline]
+// Always inlined: on the dual scalar it was left out of line and its two
+// vectors returned through memory (1.8 % of a gradient's instructions);
+// on `f32`/`f64` it was inlined already.
+#[inline(always)]
 fn sat_and_slope<B: lie::SimdBackend>(
     e: V3<B>,
     sigma: S<B>,
