@@ -15,6 +15,35 @@ use lie::{Backend, Real, S, SimdReal};
 use super::SimError;
 use super::closed_loop::ClosedLoop;
 
+/// Whether some breakpoint's slot changed sides of its level between the
+/// two states: the test after every step, the usual answer `false`.
+#[inline(always)]
+pub(crate) fn any_crossed<B: Backend, const N: usize>(
+    bps: &[Breakpoint<B>],
+    before: &State<B, N>,
+    after: &State<B, N>,
+) -> bool {
+    bps.iter().any(|bp| sides(bp, before, after).is_some())
+}
+
+/// `(level, e₀, e₁, |e₀| − level)` when `bp`'s slot changed sides of its
+/// level from `e₀` to `e₁`. A component sitting on ±level (just located)
+/// is not a new crossing. (Plain sign tests: both values are finite, the
+/// step has checked its state, and ±0 is caught by the last test.)
+#[inline(always)]
+fn sides<B: Backend, const N: usize>(
+    bp: &Breakpoint<B>,
+    before: &State<B, N>,
+    after: &State<B, N>,
+) -> Option<(f64, f64, f64, f64)> {
+    let level = bp.level.to_f64_lossless();
+    let e0 = before.extra[bp.slot].to_f64_lossless();
+    let e1 = after.extra[bp.slot].to_f64_lossless();
+    let (g0, g1) = (e0.abs() - level, e1.abs() - level);
+    let same = (g0 < 0.0) == (g1 < 0.0) || g1 == 0.0 || g0.abs() <= 1e-12 * level;
+    (!same).then_some((level, e0, e1, g0))
+}
+
 /// A located breakpoint crossing: time, breakpoint index, slot, the value
 /// the slot lands on (±level), and that value as the law's scalar (it
 /// carries the level's derivatives in a dual run).
@@ -30,6 +59,13 @@ pub(crate) struct Crossing<B: Backend> {
 /// The earliest breakpoint whose slot crossed its level inside the step,
 /// with the crossing time from cubic Hermite interpolation of the slot and
 /// its rate over the step.
+///
+/// Out of line, and asked only once [`any_crossed`] has seen a slot change
+/// sides: inlined into the loop, the optimiser computed the finiteness
+/// tests of the two loads it needs, for both states, after every step
+/// whether or not a slot had crossed (some 200 instructions a step).
+#[cold]
+#[inline(never)]
 pub(crate) fn crossing<B: Backend, const N: usize>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     bps: &[Breakpoint<B>],
@@ -41,18 +77,9 @@ pub(crate) fn crossing<B: Backend, const N: usize>(
     let mut found: Option<Crossing<B>> = None;
     let mut rates: Option<(Load<B, N>, Load<B, N>)> = None;
     for (k, bp) in bps.iter().enumerate() {
-        let level = bp.level.to_f64_lossless();
-        let e0 = before.extra[bp.slot].to_f64_lossless();
-        let e1 = after.extra[bp.slot].to_f64_lossless();
-        let (g0, g1) = (e0.abs() - level, e1.abs() - level);
-        // No side change (the usual answer after a step, so asked first);
-        // a component sitting on ±level (just located) is not a new
-        // crossing either. (Plain sign tests: this runs after every step;
-        // both values are finite, the step has checked its state, and ±0
-        // is caught by the last test.)
-        if (g0 < 0.0) == (g1 < 0.0) || g1 == 0.0 || g0.abs() <= 1e-12 * level {
+        let Some((level, e0, e1, g0)) = sides(bp, before, after) else {
             continue;
-        }
+        };
         let target = if g0 < 0.0 {
             level.copysign(e1)
         } else {

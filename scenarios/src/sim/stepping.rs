@@ -17,7 +17,9 @@ use lie::{Backend, Real, S, SimdReal};
 
 use super::closed_loop::{ClosedLoop, Layout, Parked};
 use super::emit::{Emit, Record};
-use super::events::{Crossing, crossing, event_derivatives, locate_condition, split_at_crossing};
+use super::events::{
+    Crossing, any_crossed, crossing, event_derivatives, locate_condition, split_at_crossing,
+};
 use super::grid::Grid;
 use super::record::{empty_sample, sample, track, track_figures};
 use super::{
@@ -352,7 +354,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             r,
             y,
         } = self;
-        if !r.bps.is_empty()
+        if any_crossed(&r.bps, before, y)
             && let Some(c) = crossing(sys, &r.bps, t, h, before, y)
         {
             // Split the step at the crossing: redo [t, tc], restart the dt
