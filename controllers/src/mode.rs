@@ -178,6 +178,14 @@ pub struct Breakpoint<B: Backend> {
 /// Object safe: a plan is a list of `Box<dyn Mode<B>>`. Only
 /// [`Mode::name`] and [`Mode::command`] are required.
 ///
+/// A mode's answer is a function of the time, the state, the integrals
+/// and its own configuration (its gains, references and forced branches)
+/// alone: a simulation asks it at every stage of a step, again for each
+/// sample and for the run's figures, a number of times that depends on
+/// what is recorded, and may reuse an answer at the same point instead of
+/// asking twice. A mode that kept state between calls would fly
+/// differently with and without recording.
+///
 /// # Example
 /// A mode of one's own: hold the current attitude with a thrust that
 /// cancels the weight and no moment (no integral states).

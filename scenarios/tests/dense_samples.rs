@@ -93,6 +93,48 @@ fn the_run_is_bit_identical_with_and_without_recording() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+/// The per-step figures (extrema) ask the mode for its command at every
+/// step's end, and the next step's first load takes that answer instead of
+/// asking again: the flight, its step and evaluation counts and its events
+/// are bit-identical with the figures off, where every load asks the mode
+/// itself, for every stepper (the flip crosses sat′ and switches modes,
+/// which move the mode's branches and the active segment between steps).
+#[test]
+fn the_figures_never_move_the_flight() {
+    for (kind, dt) in STEPPERS {
+        let s = flip(kind, dt);
+        let bare = RunOptions {
+            record: false,
+            extrema: false,
+            ..Default::default()
+        };
+        let without = run(&s, bare).unwrap();
+        let with = run(&s, RunOptions::default()).unwrap();
+        let flight = |o: &RunOutput| {
+            format!(
+                "{:?} {:?} {:?} {:?} {:?} {:?} {} {} {:?} {:?}",
+                o.last.r,
+                o.last.x,
+                o.last.v,
+                o.last.omega,
+                o.last.e_att,
+                o.last.e_pos,
+                o.steps,
+                o.evaluations,
+                o.event_times,
+                o.switches,
+            )
+        };
+        assert_eq!(flight(&without), flight(&with), "{kind}");
+        // Off, the extrema cover the start, the events and the end only.
+        assert!(without.max_thrust <= with.max_thrust, "{kind}");
+        assert!(
+            !with.event_times.is_empty() && !with.switches.is_empty(),
+            "{kind}"
+        );
+    }
+}
+
 /// Largest error over the run's samples in R, x and Ω against a reference
 /// run (tight, its steps landing on the samples).
 fn sample_error(o: &RunOutput, reference: &RunOutput) -> f64 {

@@ -4,7 +4,7 @@ use dynamics::Wrench;
 use integrators::State;
 use lie::{Backend, Real, Rotation, S, So3Mat};
 
-use super::closed_loop::{ClosedLoop, f3, fm};
+use super::closed_loop::{Answer, ClosedLoop, f3, fm};
 use super::{RunOutput, Sample, SimError};
 
 pub(crate) fn empty_sample() -> Sample {
@@ -113,6 +113,11 @@ pub(crate) fn track_figures<B: Backend, const N: usize>(
     y: &State<B, N>,
 ) -> Result<(), SimError> {
     let cmd = command_at(sys, t, y)?;
+    if !(sys.sampled || sys.speeds_mode)
+        && let Some(c) = &cmd
+    {
+        sys.answer = Answer::new(S::<B>::lit(t), y, sys.active, c);
+    }
     let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);
     let ortho = r.orthogonality_error().to_f64_lossless();
     let Some(c) = cmd else {
