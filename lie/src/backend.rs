@@ -10,7 +10,7 @@
 //! the associated types; only what has no common operator (dot, cross,
 //! columns, quaternion product and rotation) is a trait function.
 
-use crate::{Real, SimdMask, SimdReal};
+use crate::{Real, SimdReal};
 use core::fmt::Debug;
 use core::ops::{Add, Mul, Neg, Sub};
 
@@ -291,11 +291,8 @@ pub mod ops {
     #[inline(always)]
     pub fn diagonal<B: SimdBackend>(m: M3<B>) -> Option<V3<B>> {
         let e = elems::<B>(m);
-        let z = S::<B>::zero();
         let off = [e[0][1], e[0][2], e[1][0], e[1][2], e[2][0], e[2][1]];
-        off.iter()
-            .all(|x| x.simd_eq(z).all())
-            .then(|| B::vec3(e[0][0], e[1][1], e[2][2]))
+        S::<B>::simd_all_zero(off).then(|| B::vec3(e[0][0], e[1][1], e[2][2]))
     }
     /// Elements, indexed `[row][col]`.
     #[inline(always)]

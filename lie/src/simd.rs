@@ -153,6 +153,12 @@ pub trait SimdReal:
         }
     }
 
+    /// Whether every element of `xs` equals zero (±0) in every lane.
+    #[inline(always)]
+    fn simd_all_zero<const N: usize>(xs: [Self; N]) -> bool {
+        xs.iter().all(|x| x.simd_eq(Self::zero()).all())
+    }
+
     /// Square root.
     fn simd_sqrt(self) -> Self;
     /// Absolute value.
@@ -281,6 +287,13 @@ macro_rules! one_lane {
                 if_false: impl FnOnce() -> [$t; N],
             ) -> [$t; N] {
                 if mask { if_true() } else { if_false() }
+            }
+            // One OR of the bit patterns and one test instead of a
+            // compare and two jumps per element: ±0 are the patterns
+            // whose bits other than the sign are all clear.
+            #[inline(always)]
+            fn simd_all_zero<const N: usize>(xs: [$t; N]) -> bool {
+                xs.iter().fold(0, |acc, x| acc | x.to_bits()) << 1 == 0
             }
             #[inline(always)]
             fn simd_sqrt(self) -> $t {

@@ -2,7 +2,8 @@
 //! `errors_to_identity` of `R_dᵀR` equals `(e_R(R, R_d), Ψ(R, R_d))`, and
 //! `body_axis(k)` equals `R e_k`, for both representations on all four
 //! (backend, scalar) pairs; `ops::diagonal` finds a principal-axes
-//! inertia and its element-wise product equals the matrix product exactly.
+//! inertia (±0 off the diagonal, nothing else) and its element-wise
+//! product equals the matrix product exactly.
 
 mod common;
 
@@ -64,13 +65,35 @@ fn diagonal_case<B: Backend>(label: &str) {
             assert_eq!(a[k], b[k] * w[k], "{label}: component {k}");
         }
     }
-    // Any non-zero off-diagonal element, however small, is not diagonal.
+    // Any non-zero off-diagonal element, however small (a subnormal
+    // included), or not a number, is not diagonal; −0 is a zero. The
+    // one-lane test ORs bit patterns, so each of these is a pattern it
+    // must tell apart from ±0.
+    let tiny = s::<B>(if eps::<B>() > 1e-10 { 1e-45 } else { 5e-324 });
+    assert!(
+        lie::Real::to_f64_lossless(tiny) > 0.0,
+        "{label}: the subnormal rounds to zero"
+    );
     for (r, c) in [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)] {
+        for (bad, what) in [
+            (s::<B>(1e-30), "1e-30"),
+            (-tiny, "−subnormal"),
+            (tiny, "subnormal"),
+            (s::<B>(f64::NAN), "NaN"),
+            (s::<B>(f64::INFINITY), "∞"),
+        ] {
+            let mut e = lie::ops::elems::<B>(j);
+            e[r][c] = bad;
+            assert!(
+                diagonal::<B>(from_elems::<B>(e)).is_none(),
+                "{label}: {what} at ({r}, {c})"
+            );
+        }
         let mut e = lie::ops::elems::<B>(j);
-        e[r][c] = s::<B>(1e-30);
+        e[r][c] = s::<B>(-0.0);
         assert!(
-            diagonal::<B>(from_elems::<B>(e)).is_none(),
-            "{label}: ({r}, {c})"
+            diagonal::<B>(from_elems::<B>(e)).is_some(),
+            "{label}: −0 at ({r}, {c})"
         );
     }
 }
