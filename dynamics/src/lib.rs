@@ -90,12 +90,19 @@ pub type RigidBodyState<B> = lie::RigidState<B, M3<B>>;
 
 /// Body wrench commanded to the vehicle: total thrust `f` along `−b3` and the
 /// body moment `M`.
+///
+/// The moment comes first: a simulation writes the wrench and hands it to
+/// [`Vehicle::total_loads`] through memory at every evaluation. With the
+/// thrust first, both of the callee's 16-byte loads straddled two of the
+/// caller's stores, which the CPU cannot forward from its store buffer;
+/// with the moment first one still does, and the closed-loop RK4 step
+/// runs 1–3 % faster (measured).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Wrench<B: Backend> {
-    /// Total thrust, N (positive pushes along `−R e3`, i.e. up).
-    pub thrust: S<B>,
     /// Body moment, N m.
     pub moment: V3<B>,
+    /// Total thrust, N (positive pushes along `−R e3`, i.e. up).
+    pub thrust: S<B>,
 }
 
 impl<B: Backend> Wrench<B> {
