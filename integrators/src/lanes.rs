@@ -67,13 +67,13 @@ pub trait LaneSystem<B: SimdBackend, const N: usize> {
 }
 
 fn body<B: SimdBackend, Sys: LaneSystem<B, N> + ?Sized, const N: usize>(sys: &Sys) -> Body<B> {
-    Body {
-        j: sys.inertia(),
-        j_inv: sys.inertia_inv(),
-        inv_mass: S::<B>::one() / sys.mass(),
-        translates: sys.translates(),
-        extra_in_use: sys.extra_in_use(),
-    }
+    Body::new(
+        sys.inertia(),
+        sys.inertia_inv(),
+        S::<B>::one() / sys.mass(),
+        sys.translates(),
+        sys.extra_in_use(),
+    )
 }
 
 /// One classical RK4 step of size `h` from `(t, y)` in every lane (the
