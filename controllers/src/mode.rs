@@ -92,7 +92,7 @@ pub trait PositionSource<B: Backend> {
     /// [`PositionSource::position`]. More than a copy is saved: the law
     /// loads the 24-byte vectors of an f64 reference in 16-byte pairs,
     /// which straddle the stores of a copy made just before and miss store
-    /// forwarding (about 50 ns per closed-loop RK4 step, measured). The
+    /// forwarding. The
     /// default, `None`, asks `position` at every evaluation.
     #[inline]
     fn constant(&self) -> Option<&PositionReference<B>> {
@@ -255,8 +255,7 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// default calls `command` statically from inside each mode's own copy
     /// of this method, so where a mode's `command` is inlined (the built-in
     /// modes mark it so) the compiler drops what a load does not read even
-    /// when the simulation holds the mode as `dyn Mode`: 5.4 % fewer
-    /// instructions per closed-loop RK4 step of the position mode. An
+    /// when the simulation holds the mode as `dyn Mode`. An
     /// override must give `command`'s thrust and moment bit for bit.
     #[inline]
     fn wrench(

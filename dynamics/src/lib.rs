@@ -95,8 +95,7 @@ pub type RigidBodyState<B> = lie::RigidState<B, M3<B>>;
 /// [`Vehicle::total_loads`] through memory at every evaluation. With the
 /// thrust first, both of the callee's 16-byte loads straddled two of the
 /// caller's stores, which the CPU cannot forward from its store buffer;
-/// with the moment first one still does, and the closed-loop RK4 step
-/// runs 1–3 % faster (measured).
+/// with the moment first one still does.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Wrench<B: Backend> {
     /// Body moment, N m.

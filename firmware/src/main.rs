@@ -1,7 +1,7 @@
 //! A Cortex-M4F test image for the C ABI's laws: runs the position and the
 //! attitude update on every stored paper-flip record, prints the bits of
 //! what they computed over semihosting (one line per record), then what
-//! they cost: instructions per call counted with SysTick, the stack's
+//! they cost: the instruction count of each call from SysTick, the stack's
 //! high-water mark, and exits with a status.
 //!
 //! Run under QEMU (see `scripts/flight.sh`):

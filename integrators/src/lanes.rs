@@ -7,15 +7,12 @@
 //! through the stage functions that are the scalar steps' twins, Dormand–
 //! Prince through its trial-substep twin, the LGVI through its own solve
 //! and end-point iteration. Each scalar stepper keeps its own code where
-//! routing it through the lane code was measured slower for one lane, and
-//! each twin's doc comment gives the figure; the lane tests check every
+//! routing it through the lane code was measured slower for one lane; the
+//! lane tests check every
 //! lane against the scalar stepper to the bit. The drivers differ by
 //! design, not for speed: [`DopriLanes`] gives each lane its own step
-//! size and refills lanes one by one (on one lane, for the position loop
-//! of `scenarios::lanes` at tolerance 1e-9, it ran 0.96× the
-//! instructions of [`crate::Dopri`] stepping the same system over the same
-//! calls: 5.85 M against 6.10 M per 2 s simulated, callgrind, baseline
-//! x86-64), and [`LgviLanes`] flags a lane where [`crate::Lgvi`] halves the
+//! size and refills lanes one by one, and [`LgviLanes`] flags a lane
+//! where [`crate::Lgvi`] halves the
 //! step. What differs is failure: a lane whose
 //! state turns non-finite, or whose step cannot be controlled, is
 //! *flagged* and its neighbours go on, where the scalar steppers return an

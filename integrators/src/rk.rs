@@ -191,10 +191,9 @@ fn extras<B: SimdBackend, const N: usize, const K: usize>(
     };
     if S::<B>::CARRIES_DERIVATIVES {
         // On the dual scalar `array::from_fn` left the closure out of line
-        // and returned its array through memory (1 % of a gradient's
-        // instructions); on `f32`/`f64` the loop over a copy vectorised
-        // into stalls instead (the public-pieces f32 RK4 step 40 % slower),
-        // so each scalar keeps the form that is faster for it.
+        // and returned its array through memory; on `f32`/`f64` the loop
+        // over a copy vectorised into stalls instead, so each scalar keeps
+        // the form that is faster for it.
         let mut out = y.extra;
         for (i, o) in out.iter_mut().enumerate() {
             *o = extra(i);
@@ -440,15 +439,10 @@ impl<B: Backend, const N: usize> Integrator<B, N> for Rk4 {
 /// One classical RK4 step on the embedding from `(t, y)` for any
 /// `SimdBackend` ([`crate::lanes::rk4_step`]): the stages and combination
 /// of [`Rk4`]'s step, operation for operation (the lane tests check every
-/// lane against it to the bit). `Rk4` keeps its own copy: routing the
-/// scalar step through this function cost 4–5 % per closed-loop step in
-/// the `scenarios` step bench, and the scalar path must not pay for lanes.
-/// Not the closure or the `Result`: with an infallible closure the cost is
-/// the same. Callgrind counts the step's own code 12 % longer (1 392 →
-/// 1 557 instructions per hexarotor step, nalgebra-f64), and the
-/// disassembly shows LLVM's SLP vectorizer packing fewer of the stage
-/// combinations (packed `mulpd` 381 → 348, scalar `mulsd` 55 → 144): a
-/// heuristic of the compiler, sensitive to the shape of the inlined code.
+/// lane against it to the bit). `Rk4` keeps its own copy: routed through
+/// this function the scalar step got slower (LLVM's SLP vectorizer packs
+/// fewer of the stage combinations of this shape), and the scalar path
+/// must not pay for lanes.
 #[inline(always)]
 pub(crate) fn rk4_stages<B: SimdBackend, E, const N: usize>(
     body: &Body<B>,

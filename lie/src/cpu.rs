@@ -5,7 +5,7 @@
 //! they are compiled, not when they run: a build for the baseline x86-64
 //! runs the four `f64` lanes as two SSE2 halves, a build with
 //! `-C target-cpu=x86-64-v3` (or `native` on a CPU since 2013) as one AVX2
-//! register, 2.6 times faster on the lane Monte Carlo and with results
+//! register, faster on the lane Monte Carlo and with results
 //! identical to the bit (no fused multiply-add is formed implicitly). So the
 //! choice is between *builds*: the workspace's own builds use the machine's
 //! instruction set, a wheel carries a baseline and an x86-64-v3 build of

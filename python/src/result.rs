@@ -171,8 +171,8 @@ pub(crate) fn run<'py>(
     let out = match position {
         // A Python reference runs on this thread with the interpreter's
         // lock held: a call from another thread would take and release
-        // the lock (and a thread state) every evaluation, 8 µs measured,
-        // against well under 1 µs here. Ctrl-C then reaches the callable,
+        // the lock (and a thread state) every evaluation, many times the
+        // cost of the call itself. Ctrl-C then reaches the callable,
         // whose KeyboardInterrupt stops the run and is re-raised.
         Some(p) => SceneSimulation::with_position(scene, limits, p).and_then(|mut sim| {
             sim.advance_to(sim.duration())?;

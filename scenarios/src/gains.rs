@@ -366,7 +366,7 @@ pub struct Synthesis {
 /// Searches for gains that meet every condition of Propositions 2 and 3
 /// on `scene` with bounds `sb`, keeping the scene's peak rotor thrust
 /// under `thrust_limit` (default: the peak with the scene's own gains),
-/// with `evaluations` objective evaluations per phase (the module docs
+/// with `evaluations` objective evaluations in each phase (the module docs
 /// give the phases).
 pub fn synthesize(
     scene: &Scene,

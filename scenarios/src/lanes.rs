@@ -6,13 +6,10 @@
 //! They are the simulation's closed loop specialised to one vehicle and one
 //! law (no plan, no `dyn` mode or vehicle, no recording or events), not a
 //! replacement for it: the scalar [`Simulation`](crate::Simulation) runs any
-//! scene. What the generality costs, measured with these loops on one lane
-//! (`GlamF64` as the lane backend) against the scalar Monte Carlo path with
-//! `--no-events`, 400 position samples, one thread, x86-64-v3, three
-//! alternated runs: 1 134–1 354 ns per integrator step here against
-//! 2 198–2 333 ns through the `Simulation` (the same 367 634 steps, the
-//! same classes and times to converge). The lane tests tie the two paths'
-//! rows together.
+//! scene. On one lane these loops take about half the time of the scalar
+//! Monte Carlo path through the `Simulation` for the same steps, classes
+//! and times to converge (the lanes chapter of the guide has the bench);
+//! the lane tests tie the two paths' rows together.
 
 use controllers::{
     AccelerationModel, AttitudeGains, AttitudeReference, PositionGains, PositionInput,

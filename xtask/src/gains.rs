@@ -42,7 +42,7 @@ pub struct GainsArgs {
     /// the scene's peak with its own gains).
     #[arg(long)]
     pub thrust_limit: Option<f64>,
-    /// Synthesis: objective evaluations per phase.
+    /// Synthesis: objective evaluations in each phase.
     #[arg(long, default_value_t = 3000)]
     pub evaluations: usize,
 }

@@ -3,11 +3,9 @@
 //! stopping test and then keeping its value while the other lanes go on,
 //! so each lane is the scalar step to the bit (the lane tests check it).
 //!
-//! [`crate::Lgvi`] keeps its own code: on one lane this one runs 2.5 %
-//! more instructions (15.51 M against 15.12 M for 2 000 steps of 1 ms of
-//! the position loop of `scenarios::lanes`, callgrind, baseline x86-64),
-//! the cost of carrying masks where one lane needs a branch, and it has no
-//! step halving to give.
+//! [`crate::Lgvi`] keeps its own code: on one lane this one does more
+//! work, the cost of carrying masks where one lane needs a branch, and it
+//! has no step halving to give.
 
 use lie::Real;
 use lie::num_traits::One;

@@ -53,9 +53,8 @@ macro_rules! nalgebra_primitives {
 /// nalgebra's operators go through its generic BLAS loops, which the
 /// optimiser inlines for `f32`/`f64` but leaves out of line for a scalar as
 /// wide as a dual number, with three products per term instead of one (the
-/// `α = 1` and `β` factors of `gemv`). Measured on the paper-flip gradient
-/// with 12 directions: 14.6 % fewer instructions; 7 % less time built for
-/// x86-64-v3, 15 % with AVX-512, none measurable on the baseline build.
+/// `α = 1` and `β` factors of `gemv`), which a gradient pays on every
+/// product.
 #[cfg(feature = "dual")]
 macro_rules! explicit_products {
     ($s:ty) => {

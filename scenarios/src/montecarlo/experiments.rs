@@ -90,9 +90,9 @@ pub struct Setup {
     pub locate_events: bool,
     /// On the lane path (`Setup::run_lanes`, feature `simd`), one dopri step size shared
     /// by the four lanes of an instruction stream (the worst lane's error
-    /// decides), instead of a step size per lane. Off by default: measured
-    /// on the 10 000 samples of seed 1, the shared step is slower and its
-    /// rows no longer equal the scalar path's (the README has the figures).
+    /// decides), instead of a step size per lane. Off by default: on the
+    /// position study the shared step is slower and its rows no longer
+    /// equal the scalar path's.
     /// The scalar path refuses it.
     #[serde(default)]
     pub shared_step: bool,

@@ -370,12 +370,11 @@ fn write_batches(
 /// for its plot panel. Every message is protobuf with its schema (a
 /// `FileDescriptorSet`) in the file: Foxglove reads it as is, and the
 /// official Python `mcap` reader with `mcap-protobuf-support` decodes every
-/// message (the README has the snippet). Chunks are not compressed (see
+/// message (the guide's first-flight chapter has the snippet). Chunks are not compressed (see
 /// [`McapWriter::create`]).
 ///
-/// Protobuf rather than JSON: on one hour at 1 kHz it is half the
-/// encoding time and 30 % fewer bytes (doubles are copied, not formatted);
-/// see the README for the measurement.
+/// Protobuf rather than JSON: doubles are copied, not formatted, which
+/// takes less time and fewer bytes.
 ///
 /// The caller's thread only copies each sample's numbers; a thread of the
 /// writer's own encodes the messages and writes them (record framing into
@@ -404,9 +403,8 @@ impl McapWriter {
         let (target, file) = Target::open(path)?;
         let e = |x: std::io::Error| err_io(path, &x);
         // Append only, so a pipe works like a file: each chunk is
-        // assembled in memory and written once. What the chunks cost was
-        // measured on an hour of `hover-disturbed` at 1 kHz (README,
-        // "Outputs near the disk"): lz4 on ~100-byte records cost more than
+        // assembled in memory and written once. Measured on an hour of
+        // `hover-disturbed` at 1 kHz: lz4 on ~100-byte records cost more than
         // writing 2.8x the bytes uncompressed, and the chunk and data
         // CRCs (optional in MCAP, and the file is synced and renamed whole)
         // a tenth of the writer's time. Chunks of 4 MiB, larger than the

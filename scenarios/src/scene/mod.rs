@@ -668,8 +668,8 @@ impl Scene {
     }
 
     /// Refuses a scene of more than `max_steps` steps, saying how long it
-    /// would take at about 1 µs a closed-loop step (the order of one
-    /// RK4 step here): a mistyped `duration` or `dt` otherwise starts a run
+    /// would take at about 1 µs a closed-loop step (a round figure for
+    /// the message, not a measurement): a mistyped `duration` or `dt` otherwise starts a run
     /// that never ends. The error's key is `duration`.
     pub fn check_size(&self, max_steps: f64) -> Result<(), SceneError> {
         let steps = self.estimated_steps();

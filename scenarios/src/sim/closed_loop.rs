@@ -124,7 +124,6 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
 /// is the one the mode would give again, bit for bit. Kept for one load
 /// only (any load takes it), and only on scalars that carry no
 /// derivatives (a dual step's start time carries the grid phase's).
-/// A recorded paper-flip (RK4): 9 % fewer instructions.
 #[derive(Copy, Clone)]
 pub(crate) struct Answer<B: Backend, const N: usize> {
     t: f64,
@@ -412,9 +411,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     /// written into `rates` and any rotor speeds into `speeds`: the load's
     /// path. A wrench mode is asked for [`Mode::wrench`](controllers::Mode::wrench)
     /// alone, so the load does not pay for the desired attitude and `Ψ`
-    /// that only samples and switch conditions read (callgrind, hover in
-    /// position mode, RK4: 6 077 → 5 748 instructions per step; the
-    /// paper-flip 30.14 M → 28.96 M).
+    /// that only samples and switch conditions read.
     #[inline(always)]
     fn wrench_into(
         &mut self,
@@ -603,8 +600,7 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             || self.vehicle.rate_dependent_loads()
     }
     // Inlined into the stepper: out of line, the load came back through
-    // memory and the step waited on it (step bench: 726 → 689 µs f32,
-    // 742 → 714 µs f64 per 1000 RK4 steps, the hand twin unchanged).
+    // memory and the step waited on it.
     #[inline(always)]
     fn load(&mut self, t: S<B>, y: &State<B, N>) -> Load<B, N> {
         self.evaluations += 1;

@@ -63,7 +63,7 @@ pub(crate) struct Crossing<B: Backend> {
 /// Out of line, and asked only once [`any_crossed`] has seen a slot change
 /// sides: inlined into the loop, the optimiser computed the finiteness
 /// tests of the two loads it needs, for both states, after every step
-/// whether or not a slot had crossed (some 200 instructions a step).
+/// whether or not a slot had crossed.
 #[cold]
 #[inline(never)]
 pub(crate) fn crossing<B: Backend, const N: usize>(

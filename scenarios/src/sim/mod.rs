@@ -81,9 +81,8 @@ pub struct RunOptions<'a> {
     /// mode for its whole command at every step's end, and the next step's
     /// first load reuses that answer's wrench, so what it adds is the
     /// difference between a command and a wrench and the figures
-    /// themselves (the paper-flip recorded, RK4: 9 % fewer instructions
-    /// than when the figures had a controller evaluation of their own);
-    /// off, those fields cover only the start, the located events and the
+    /// themselves, not a controller evaluation of their own; off, those
+    /// fields cover only the start, the located events and the
     /// end.
     pub extrema: bool,
 }

@@ -26,7 +26,7 @@ const PAIRS: [(&str, &str); 2] = [
     ("nalgebra-f32", "nalgebra-f32x8"),
 ];
 
-/// Prints the lane benches' medians (ns per vehicle or scene) with the
+/// Prints the lane benches' medians (nanoseconds a vehicle or scene) with the
 /// speed-up of the lanes over one lane; returns `(what, pair, ns)` rows.
 pub fn lanes_table(raw: &[(String, f64)]) -> Vec<(String, String, f64)> {
     let medians: BTreeMap<&str, f64> = raw.iter().map(|(id, m)| (id.as_str(), *m)).collect();
