@@ -36,6 +36,7 @@ use scenarios::scene::{BackendKind, Scalar};
 
 mod lanes;
 mod lie_table;
+mod report;
 
 pub use lie_table::lie_table;
 
@@ -56,6 +57,12 @@ pub struct BenchArgs {
     /// with `RUSTFLAGS="-C target-cpu=native"`, say).
     #[arg(long)]
     pub throughput: bool,
+    /// Also write the guide's performance chapter: the tables of this run
+    /// with the machine, date and commit at the top (default path: the
+    /// guide's `12-performance.md`; with `--quick`, whose figures are
+    /// rough, `target/bench/performance.md`).
+    #[arg(long, value_name = "PATH", num_args = 0..=1, default_missing_value = "")]
+    pub report: Option<PathBuf>,
 }
 
 /// One row of `summary.csv`.
@@ -310,8 +317,9 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         ));
     }
     let mut csv = String::from("name,backend,scalar,median_ns,baseline_ns,ratio\n");
-    println!("| what | backend | scalar | median (ns) | hand-written (ns) | ratio |");
-    println!("|---|---|---|---|---|---|");
+    let mut table = String::from(
+        "| what | backend | scalar | median (ns) | hand-written (ns) | ratio |\n|---|---|---|---|---|---|\n",
+    );
     for r in &rows {
         let ratio = r.baseline_ns.map(|b| r.median_ns / b);
         csv += &format!(
@@ -331,8 +339,8 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
                 format!("{ns:.1}")
             }
         };
-        println!(
-            "| {} | {} | {} | {} | {} | {} |",
+        table += &format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
             r.name,
             r.backend,
             r.scalar,
@@ -341,10 +349,12 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
             ratio.map_or("–".into(), |x| format!("{x:.2}"))
         );
     }
+    print!("{table}");
     let [e64, e32] = scenarios::metrics::flip_rk4_errors().map_err(|e| e.to_string())?;
-    println!(
+    let flip_error = format!(
         "paper-flip rk4 1 ms whole run: final-state error (max |Δx|, |ΔR| against dopri 1e-12 f64) {e64:.2e} in f64, {e32:.2e} in f32"
     );
+    println!("{flip_error}");
     let mut raw = Vec::new();
     crate::collect(&crit, &mut raw)?;
     lie_table(&raw, true);
@@ -384,7 +394,8 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     std::fs::write(&wp_csv, &csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
     let wp_svg = out_dir.join("work_precision.svg");
     scenarios::figures::work_precision_panels(&wp_svg, &wp).map_err(|e| e.to_string())?;
-    best_per_accuracy(&wp);
+    let fastest = best_per_accuracy(&wp);
+    print!("{fastest}");
 
     // The tables as a log, read with the same tools as the flight logs;
     // stamped with the time of the run, so that files of several runs line
@@ -407,15 +418,24 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         mcap.display(),
         started.elapsed().as_secs_f64()
     );
+    if let Some(path) = &a.report {
+        let tables = report::Tables {
+            summary: &table,
+            flip_error: &flip_error,
+            fastest: &fastest,
+            work_precision_svg: &wp_svg,
+        };
+        report::write(path, a.quick, &tables)?;
+    }
     Ok(())
 }
 
 /// For each scene and pair, the fastest stepper to reach 1e-4, 1e-6, 1e-9
 /// (when any does): the reading of the work-precision figure.
-fn best_per_accuracy(wp: &[(String, &str, Point)]) {
-    println!("\nfastest stepper to reach an accuracy (wall time, best of 3):");
-    println!("| scene | pair | ≤ 1e-4 | ≤ 1e-6 | ≤ 1e-9 |");
-    println!("|---|---|---|---|---|");
+fn best_per_accuracy(wp: &[(String, &str, Point)]) -> String {
+    let mut out = String::from(
+        "\nfastest stepper to reach an accuracy (wall time, best of 3):\n| scene | pair | ≤ 1e-4 | ≤ 1e-6 | ≤ 1e-9 |\n|---|---|---|---|---|\n",
+    );
     let mut keys: Vec<(String, &str)> = wp.iter().map(|(s, p, _)| (s.clone(), *p)).collect();
     keys.dedup();
     for (scene, pair) in keys {
@@ -427,8 +447,9 @@ fn best_per_accuracy(wp: &[(String, &str, Point)]) {
                 })
         };
         let [a, b, c] = [1e-4, 1e-6, 1e-9].map(cell);
-        println!("| {scene} | {pair} | {a} | {b} | {c} |");
+        out += &format!("| {scene} | {pair} | {a} | {b} | {c} |\n");
     }
+    out
 }
 
 #[cfg(test)]
