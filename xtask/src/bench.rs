@@ -61,8 +61,8 @@ pub struct BenchArgs {
     /// with the machine, date and commit at the top (default path: the
     /// guide's `12-performance.md`; with `--quick`, whose figures are
     /// rough, `target/bench/performance.md`).
-    #[arg(long, value_name = "PATH", num_args = 0..=1, default_missing_value = "")]
-    pub report: Option<PathBuf>,
+    #[arg(long, value_name = "PATH", num_args = 0..=1)]
+    pub report: Option<Option<PathBuf>>,
 }
 
 /// One row of `summary.csv`.
@@ -425,7 +425,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
             fastest: &fastest,
             work_precision_svg: &wp_svg,
         };
-        report::write(path, a.quick, &tables)?;
+        report::write(path.as_deref(), a.quick, &tables)?;
     }
     Ok(())
 }
@@ -471,5 +471,27 @@ mod tests {
             Some(("step-rk4".into(), "glam-f32".into(), Variant::Direct))
         );
         assert_eq!(parse("nogroup"), None);
+    }
+}
+
+#[cfg(test)]
+mod report_flag {
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        bench: super::BenchArgs,
+    }
+
+    #[test]
+    fn report_takes_an_optional_path() {
+        let parse = |args: &[&str]| Cli::try_parse_from(args).map(|c| c.bench.report);
+        assert_eq!(parse(&["x"]).unwrap(), None);
+        assert_eq!(parse(&["x", "--quick", "--report"]).unwrap(), Some(None));
+        assert_eq!(
+            parse(&["x", "--report", "p.md"]).unwrap(),
+            Some(Some(std::path::PathBuf::from("p.md")))
+        );
     }
 }

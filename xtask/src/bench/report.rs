@@ -55,16 +55,16 @@ fn commit() -> String {
     }
 }
 
-/// Writes the chapter to `path` (empty: the default for `quick`), and for
-/// a full run at the default place the guide's copy of the figure.
-pub fn write(path: &Path, quick: bool, t: &Tables<'_>) -> Result<(), String> {
+/// Writes the chapter to `path` (`None`: the default for `quick`), and
+/// for a full run at the default place the guide's copy of the figure.
+pub fn write(path: Option<&Path>, quick: bool, t: &Tables<'_>) -> Result<(), String> {
     let root = workspace_root();
     let guide = root.join("geopid").join("guide");
-    let default = path.as_os_str().is_empty();
-    let path: PathBuf = match (default, quick) {
-        (false, _) => path.to_path_buf(),
-        (true, false) => guide.join("12-performance.md"),
-        (true, true) => root.join("target").join("bench").join("performance.md"),
+    let default = path.is_none();
+    let path: PathBuf = match (path, quick) {
+        (Some(p), _) => p.to_path_buf(),
+        (None, false) => guide.join("12-performance.md"),
+        (None, true) => root.join("target").join("bench").join("performance.md"),
     };
     let date = command_line("date", &["-u", "+%Y-%m-%d"]).unwrap_or_else(|| "unknown".into());
     let kind = if quick {
