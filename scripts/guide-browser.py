@@ -34,12 +34,16 @@ FAILED_REQUESTS = []
 class Links(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
-        self.hrefs, self.ids = [], set()
+        self.hrefs, self.ids, self.refresh = [], set(), None
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
         if "id" in a:
             self.ids.add(a["id"])
+        # rustdoc's redirect pages (an item of a private module, re-exported)
+        # forward the fragment to the item's page.
+        if tag == "meta" and a.get("http-equiv") == "refresh" and "URL=" in a.get("content", ""):
+            self.refresh = a["content"].split("URL=", 1)[1]
         for k in ("href", "src"):
             if a.get(k) and tag in ("a", "img", "script", "link"):
                 self.hrefs.append(a[k])
@@ -72,7 +76,18 @@ def link_walk():
                 broken.append(f"{where} (no file {target})")
                 continue
             if url.fragment and target.suffix == ".html":
-                ids = cache.setdefault(target, parse(target).ids)
+                for _ in range(4):
+                    if target not in cache:
+                        cache[target] = parse(target)
+                    if cache[target].refresh is None:
+                        break
+                    target = (target.parent / cache[target].refresh).resolve()
+                    if not target.exists():
+                        break
+                if not target.exists():
+                    broken.append(f"{where} (redirect to a missing {target})")
+                    continue
+                ids = cache.setdefault(target, parse(target)).ids
                 # rustdoc's line anchors in source pages are made by script.
                 if url.fragment not in ids and not re.fullmatch(r"\d+(-\d+)?", url.fragment):
                     broken.append(f"{where} (no id `{url.fragment}`)")

@@ -34,6 +34,7 @@ use std::process::{Command, Stdio};
 
 use scenarios::scene::{BackendKind, Scalar};
 
+mod extras;
 mod lanes;
 mod lie_table;
 mod report;
@@ -96,9 +97,10 @@ const BENCH_FEATURES: &str = "geopid-lie/simd,geopid-controllers/simd,geopid-sce
 
 /// The criterion passes: `(package folder, bench target, filter)`. `lie`'s own
 /// `lanes` bench (per-rotation lane timings) is not one of them.
-const PASSES: [(&str, &str, &str); 5] = [
+const PASSES: [(&str, &str, &str); 6] = [
     ("controllers", "update", ""),
     ("scenarios", "step", ""),
+    ("scenarios", "gradient", ""),
     ("lie", "lie", "vs-native"),
     ("controllers", "lanes", ""),
     ("scenarios", "lanes", ""),
@@ -357,9 +359,11 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     println!("{flip_error}");
     let mut raw = Vec::new();
     crate::collect(&crit, &mut raw)?;
-    lie_table(&raw, true);
-    lanes::lanes_table(&raw);
-    lanes::throughput(a.quick);
+    let (native, _) = lie_table(&raw, true);
+    let lanes_md = lanes::lanes_table(&raw);
+    let throughput_md = lanes::throughput(a.quick);
+    let gradient_md = extras::gradient_table(&raw);
+    let outputs_md = extras::outputs_table(&out_dir, a.quick)?;
     let summary = out_dir.join("summary.csv");
     std::fs::write(&summary, &csv).map_err(|e| format!("{}: {e}", summary.display()))?;
     let summary_csv = csv;
@@ -423,6 +427,11 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
             summary: &table,
             flip_error: &flip_error,
             fastest: &fastest,
+            native: &native,
+            lanes: &lanes_md,
+            throughput: &throughput_md,
+            gradient: &gradient_md,
+            outputs: &outputs_md,
             work_precision_svg: &wp_svg,
         };
         report::write(path.as_deref(), a.quick, &tables)?;

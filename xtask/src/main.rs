@@ -194,8 +194,8 @@ fn bench_table() -> Result<(), String> {
     }
     let mut rows = Vec::new();
     collect(&root, &mut rows)?;
-    bench::lie_table(&rows, false);
-    bench::lie_table(&rows, true);
+    let _ = bench::lie_table(&rows, false);
+    let _ = bench::lie_table(&rows, true);
     Ok(())
 }
 

@@ -26,28 +26,27 @@ const PAIRS: [(&str, &str); 2] = [
     ("nalgebra-f32", "nalgebra-f32x8"),
 ];
 
-/// Prints the lane benches' medians (nanoseconds a vehicle or scene) with the
-/// speed-up of the lanes over one lane; returns `(what, pair, ns)` rows.
-pub fn lanes_table(raw: &[(String, f64)]) -> Vec<(String, String, f64)> {
+/// The lane benches' medians (nanoseconds a vehicle or scene) with the
+/// speed-up of the lanes over one lane, as a Markdown table (also printed).
+pub fn lanes_table(raw: &[(String, f64)]) -> String {
     let medians: BTreeMap<&str, f64> = raw.iter().map(|(id, m)| (id.as_str(), *m)).collect();
-    let mut rows = Vec::new();
-    println!("\n| per vehicle or scene | one lane | ns | lanes | ns | speed-up |");
-    println!("|---|---|---|---|---|---|");
+    let mut md = String::from(
+        "| per vehicle or scene | one lane | ns | lanes | ns | speed-up |\n|---|---|---|---|---|---|\n",
+    );
     for (group, what) in GROUPS {
         for (one, many) in PAIRS {
             let get = |pair: &str| medians.get(format!("{group}/{pair}").as_str()).copied();
             let (Some(a), Some(b)) = (get(one), get(many)) else {
                 continue;
             };
-            println!(
-                "| {what} | {one} | {a:.1} | {many} | {b:.1} | {:.2} |",
+            md += &format!(
+                "| {what} | {one} | {a:.1} | {many} | {b:.1} | {:.2} |\n",
                 a / b
             );
-            rows.push((what.to_string(), one.to_string(), a));
-            rows.push((what.to_string(), many.to_string(), b));
         }
     }
-    rows
+    println!("\n{md}");
+    md
 }
 
 /// Scene `i`: the position Monte Carlo's sample `i` (random attitude,
@@ -98,16 +97,16 @@ where
     count.load(Ordering::Relaxed) as f64 / started.elapsed().as_secs_f64()
 }
 
-/// Prints the position updates per second on one core and on every core,
-/// one lane and lanes, each precision.
-pub fn throughput(quick: bool) {
+/// The position updates per second on one core and on every core, one
+/// lane and lanes, each precision, as a Markdown table (also printed).
+pub fn throughput(quick: bool) -> String {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let run = Duration::from_millis(if quick { 300 } else { 1500 });
-    println!("\n| position updates per second | one core | {cores} cores |");
-    println!("|---|---|---|");
-    let row = |name: &str, f: &dyn Fn(usize) -> f64| {
+    let mut md =
+        format!("| position updates per second | one core | {cores} cores |\n|---|---|---|\n");
+    let mut row = |name: &str, f: &dyn Fn(usize) -> f64| {
         let (one, all) = (f(1), f(cores));
-        println!("| {name} | {one:.3e} | {all:.3e} |");
+        md += &format!("| {name} | {one:.3e} | {all:.3e} |\n");
     };
     row("nalgebra-f64", &|k| {
         updates_per_second::<NalgebraF64, NalgebraF64>(k, run)
@@ -121,4 +120,6 @@ pub fn throughput(quick: bool) {
     row("nalgebra-f32x8", &|k| {
         updates_per_second::<NalgebraF32, NalgebraF32x8>(k, run)
     });
+    println!("\n{md}");
+    md
 }

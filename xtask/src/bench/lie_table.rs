@@ -3,11 +3,12 @@
 
 use std::collections::BTreeMap;
 
-/// Prints the lie bench's medians as a table: against the hand-written
-/// twins (ids `<op>/<pair>/<generic|hand>`), or with `native` against the
-/// backend's own types (ids `vs-native/<op>/<pair>/<generic|native>`), with
-/// the ratio and how many rows are over the 1.10 goal. Returns that count.
-pub fn lie_table(rows: &[(String, f64)], native: bool) -> usize {
+/// The lie bench's medians as a Markdown table (also printed): against the
+/// hand-written twins (ids `<op>/<pair>/<generic|hand>`), or with `native`
+/// against the backend's own types (ids
+/// `vs-native/<op>/<pair>/<generic|native>`), with the ratio and how many
+/// rows are over the 1.10 goal. Returns the table and that count.
+pub fn lie_table(rows: &[(String, f64)], native: bool) -> (String, usize) {
     // (op, pair) -> (generic, baseline)
     let mut table: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
     let base = if native { "native" } else { "hand" };
@@ -26,15 +27,15 @@ pub fn lie_table(rows: &[(String, f64)], native: bool) -> usize {
         }
     }
     if table.is_empty() {
-        return 0;
+        return (String::new(), 0);
     }
     let what = if native {
         "the backend's own type"
     } else {
         "hand-written"
     };
-    println!("\n| operation | pair | lie (ns) | {what} (ns) | ratio |");
-    println!("|---|---|---|---|---|");
+    let mut md =
+        format!("| operation | pair | lie (ns) | {what} (ns) | ratio |\n|---|---|---|---|---|\n");
     let mut over = 0;
     for ((op, pair), (g, h)) in &table {
         let fmt = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.2}"));
@@ -45,13 +46,14 @@ pub fn lie_table(rows: &[(String, f64)], native: bool) -> usize {
             }
             _ => "–".to_string(),
         };
-        println!("| {op} | {pair} | {} | {} | {ratio} |", fmt(*g), fmt(*h));
+        md += &format!("| {op} | {pair} | {} | {} | {ratio} |\n", fmt(*g), fmt(*h));
     }
     let with = table.values().filter(|(g, h)| g.is_some() && h.is_some());
-    println!(
-        "{} rows, {} with a baseline, {over} over the 1.10 goal",
+    md += &format!(
+        "\n{} rows, {} with a baseline, {over} over the 1.10 goal\n",
         table.len(),
         with.count()
     );
-    over
+    println!("\n{md}");
+    (md, over)
 }

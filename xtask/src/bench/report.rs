@@ -16,6 +16,16 @@ pub struct Tables<'a> {
     pub flip_error: &'a str,
     /// The fastest stepper to reach each accuracy.
     pub fastest: &'a str,
+    /// `lie` against the backends' own types.
+    pub native: &'a str,
+    /// One lane against SIMD lanes.
+    pub lanes: &'a str,
+    /// Position updates per second, one core and every core.
+    pub throughput: &'a str,
+    /// What a gradient costs in plain runs.
+    pub gradient: &'a str,
+    /// What the CSV and MCAP outputs cost against `dd`.
+    pub outputs: &'a str,
     /// The work-precision figure just drawn.
     pub work_precision_svg: &'a Path,
 }
@@ -82,12 +92,22 @@ pub fn write(path: Option<&Path>, quick: bool, t: &Tables<'_>) -> Result<(), Str
          `paper-flip` whole-run rows are the 4 s flight with a sample every 0.05 s.\n\n\
          ## Generic code against hand-written code\n\n{summary}\n{flip}\n\n\
          ## Run time against error\n\n\
-         The work-precision figure is in the [integrators chapter](super::integrators).\n{fastest}",
+         The work-precision figure is in the [integrators chapter](super::integrators).\n{fastest}\n\
+         ## `lie` against the backends' own types\n\n{native}\n\
+         ## SIMD lanes\n\n\
+         Per vehicle or scene: a lane group's median divided by its lane count.\n\n{lanes}\n{throughput}\n\
+         ## Gradients\n\n{gradient}\n\
+         ## Outputs against `dd`\n\n{outputs}",
         machine = machine(),
         commit = commit(),
         summary = t.summary,
         flip = t.flip_error,
         fastest = t.fastest,
+        native = t.native,
+        lanes = t.lanes,
+        throughput = t.throughput,
+        gradient = t.gradient,
+        outputs = t.outputs,
     );
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     println!("wrote the performance chapter {}", path.display());
