@@ -17,10 +17,12 @@ renamed package breaks CI, not a reader.
 
 Blocks run with CI's debug binaries instead of rebuilding: `cargo xtask …`
 runs `$XTASK`, `cargo run -p PKG --example NAME [-- ARGS]` runs
-`$EXAMPLES/NAME ARGS`; `geopid` and `python` come from `$VENV/bin` when given.
+`$EXAMPLES/NAME ARGS`; `geopid` runs `$GEOPID` (the Rust command) and
+`python` comes from `$VENV/bin` when given (the wheel's own console script
+is run as `python -m geopid`, so the two never stand in for each other).
 
 Usage: scripts/doc-blocks.py [--list] [--doctest-log LOG]
-Environment: XTASK, EXAMPLES (CI's target/debug/xtask and examples), VENV.
+Environment: XTASK, GEOPID, EXAMPLES (CI's target/debug binaries and examples), VENV.
 """
 import json
 import os
@@ -40,6 +42,7 @@ TIMEOUT = 600
 
 PRELUDE = r'''
 set -euo pipefail
+geopid() { "$GEOPID" "$@"; }
 cargo() {
     case "${1:-}" in
         xtask) shift; "$XTASK" "$@" ;;
@@ -170,7 +173,7 @@ def main():
     if env.get("VENV"):
         env["PATH"] = os.path.join(env["VENV"], "bin") + os.pathsep + env["PATH"]
     if not list_only:
-        for var in ("XTASK", "EXAMPLES"):
+        for var in ("XTASK", "GEOPID", "EXAMPLES"):
             if not env.get(var):
                 sys.exit(f"doc-blocks: set {var} (CI's debug binaries)")
     n_rust = n_data = n_ran = 0

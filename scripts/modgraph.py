@@ -29,7 +29,7 @@ import sys
 from collections import defaultdict
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "xtask", "python", "testkit", "capi"]
+CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "cli", "xtask", "python", "testkit", "capi"]
 # Layers of a crate's top-level modules, bottom first: a module may name
 # modules of its own layer or below, never above. Every top-level module
 # of such a crate must be placed (a new one fails until it is).
@@ -234,6 +234,8 @@ def crate_deps(crate):
                 section = line
                 continue
             name = line.split("=", 1)[0].strip()
+            # A dependency is keyed by its folder's name or by its package's.
+            name = name[len("geopid-"):] if name.startswith("geopid-") else name
             if section == "[dependencies]" and name in CRATES and name != crate:
                 deps.append(name)
     return deps

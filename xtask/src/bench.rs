@@ -41,8 +41,8 @@ mod report;
 
 pub use lie_table::lie_table;
 
-use crate::sweep::{Point, points};
 use crate::workspace_root;
+use geopid_cli::sweep::{Point, points};
 
 /// Options of `cargo xtask bench`.
 #[derive(clap::Args, Debug)]
@@ -83,7 +83,7 @@ const PAIRS: [(&str, BackendKind, Scalar); 4] = [
 ];
 
 fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
-    let b = crate::progress(len, "{msg} [{bar:30}] {pos}/{len}");
+    let b = geopid_cli::progress(len, "{msg} [{bar:30}] {pos}/{len}");
     b.set_message(what.to_string());
     b
 }

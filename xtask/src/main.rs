@@ -27,13 +27,8 @@
 
 mod bench;
 mod conservation;
-mod gains;
-mod montecarlo;
 mod regress;
-mod run;
 mod stress;
-mod sweep;
-mod tune;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -50,24 +45,13 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Run a scene (built-in name or TOML file) and write CSV/MCAP/plots.
-    Run(Box<run::RunArgs>),
+    /// The `geopid` command's subcommands (run, scenes, gains, montecarlo,
+    /// tune, sweep), from the same code.
+    #[command(flatten)]
+    User(geopid_cli::Command),
     /// Run every built-in scene and check its metrics against the committed
     /// expectations.
     Regress(regress::RegressArgs),
-    /// The gain conditions of Propositions 2–3 for a scene, or a search for
-    /// gains that meet them (--synthesize).
-    Gains(Box<gains::GainsArgs>),
-    /// Many random initial conditions through attitude or position mode:
-    /// the converged fraction and the time to converge (almost global
-    /// attractivity, Propositions 2–3); `merge` combines shards, `near-pi`
-    /// measures the slow escape from the π equilibrium.
-    Montecarlo(Box<montecarlo::McArgs>),
-    /// The gains k_x, k_v, k_R, k_Ω tuned on the exact gradient of a
-    /// scene's tracking cost, within bounds and a thrust limit.
-    Tune(tune::TuneArgs),
-    /// Run time against error for every stepper on one scene.
-    Sweep(sweep::SweepArgs),
     /// Numerical stress cases, each against a bound with its reason:
     /// long horizon, free body 10⁴ s, step-size limits, high rates, f32 vs
     /// f64, a NaN injected mid-run (--quick: under two minutes).
@@ -97,18 +81,12 @@ fn main() -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
+    geopid_cli::set_program("cargo xtask");
     let cli = Cli::parse();
     let result = match cli.command {
-        Cmd::Run(a) => match run::run(*a) {
-            Ok(status) => return ExitCode::from(status),
-            Err(e) => Err(e),
-        },
+        Cmd::User(c) => return geopid_cli::exit_code(c.execute()),
         Cmd::Regress(a) => regress::regress(a),
-        Cmd::Sweep(a) => sweep::sweep(a),
         Cmd::Stress(a) => stress::stress(a),
-        Cmd::Montecarlo(a) => montecarlo::montecarlo(*a),
-        Cmd::Gains(a) => gains::gains(*a),
-        Cmd::Tune(a) => tune::tune(a),
         Cmd::Bench(a) => bench::bench(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
@@ -121,19 +99,6 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-/// A progress bar of `len` steps drawn with `template` on stderr when it
-/// is a terminal, hidden otherwise (a log, CI).
-fn progress(len: u64, template: &str) -> indicatif::ProgressBar {
-    let b = indicatif::ProgressBar::new(len);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-        b.set_style(style);
-    }
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        b.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
-    b
 }
 
 fn workspace_root() -> PathBuf {

@@ -1,4 +1,4 @@
-//! `cargo xtask montecarlo`: the paper's "almost global" attractivity
+//! `geopid montecarlo`: the paper's "almost global" attractivity
 //! (Propositions 2 and 3) checked over many random initial conditions.
 //! The study itself (sampling, classification, statistics) is
 //! `scenarios::montecarlo`; this is its command line: arguments, shards and
@@ -16,12 +16,10 @@ use scenarios::montecarlo::shards::{
 };
 
 fn default_out(experiment: &str) -> PathBuf {
-    crate::workspace_root()
-        .join("target/montecarlo")
-        .join(experiment)
+    Path::new("target/montecarlo").join(experiment)
 }
 
-/// `cargo xtask montecarlo merge DIR...`: the shards' rows as one run's
+/// `geopid montecarlo merge DIR...`: the shards' rows as one run's
 /// files.
 pub fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), String> {
     let (setup, rows) = shards::merge(dirs).map_err(|e| e.to_string())?;
@@ -48,10 +46,11 @@ impl Experiment {
     }
 }
 
-/// Options of `cargo xtask montecarlo`.
+/// Options of `geopid montecarlo`.
 #[derive(clap::Args, Debug)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct McArgs {
+    /// `merge` or `near-pi`; none runs the experiment.
     #[command(subcommand)]
     pub action: Option<McAction>,
     /// attitude or position.
@@ -97,7 +96,7 @@ pub struct McArgs {
     /// converged, s.
     #[arg(long, default_value_t = 0.5)]
     pub hold: f64,
-    /// Integrator (see `cargo xtask run --help`). The default, dopri at
+    /// Integrator (see `geopid run --help`). The default, dopri at
     /// 1e-6, classifies every sample of a 200-sample check as dopri at 1e-9
     /// does, with times to converge within 0.05 s, at a quarter of its
     /// cost; rk4 at 5e-3 misclassified 2 of 200 and at 2e-3 cost more
@@ -202,12 +201,13 @@ fn flags(setup: &Setup) -> String {
 }
 
 /// The experiment's scene with a sample's initial condition, described by
-/// the command that reproduces it: what `cargo xtask run` replays.
+/// the command that reproduces it: what `geopid run` replays.
 pub fn scene(setup: &Setup, init: &Initial) -> Scene {
     let mut s = setup.scene(init);
     s.description = format!(
-        "A Monte Carlo sample of the {} experiment (cargo xtask montecarlo {}).",
+        "A Monte Carlo sample of the {} experiment ({} montecarlo {}).",
         setup.experiment,
+        crate::program(),
         flags(setup)
     );
     s
@@ -262,7 +262,11 @@ pub fn run_indices(
 /// The report of a complete run, each slow sample with its command line.
 pub fn summary(setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Report {
     Report::new(setup, rows, wall, |i| {
-        format!("cargo xtask montecarlo {} --index {i}", flags(setup))
+        format!(
+            "{} montecarlo {} --index {i}",
+            crate::program(),
+            flags(setup)
+        )
     })
 }
 
@@ -276,7 +280,7 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
     scenarios::figures::montecarlo(dir, rows).map_err(|e| e.to_string())?;
     print!("{report}");
     // The replay is the slowest *converged* sample: a diverging one would
-    // make `cargo xtask run` (uncapped dopri) grind through its blow-up;
+    // make `geopid run` (uncapped dopri) grind through its blow-up;
     // those are re-run with their `--index` command instead.
     let worst = rows
         .iter()
@@ -290,9 +294,10 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
         let path = dir.join("worst.toml");
         write_atomic(&path, sc.to_toml().as_bytes()).map_err(|e| e.to_string())?;
         println!(
-            "slowest converged sample (#{}, {:.3} s) as a scene: cargo xtask run {} --mcap worst.mcap",
+            "slowest converged sample (#{}, {:.3} s) as a scene: {} run {} --mcap worst.mcap",
             r.index,
             r.t_converge,
+            crate::program(),
             path.display()
         );
     }
@@ -303,7 +308,7 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
     Ok(())
 }
 
-/// `cargo xtask montecarlo`.
+/// `geopid montecarlo`.
 pub fn montecarlo(a: McArgs) -> Result<(), String> {
     match &a.action {
         Some(McAction::Merge { dirs, out }) => return merge(dirs, out.as_deref()),
@@ -340,7 +345,8 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
         let path = dir.join(format!("sample-{i}.toml"));
         write_atomic(&path, sc.to_toml().as_bytes()).map_err(|e| e.to_string())?;
         println!(
-            "its scene: cargo xtask run {} --mcap sample-{i}.mcap",
+            "its scene: {} run {} --mcap sample-{i}.mcap",
+            crate::program(),
             path.display()
         );
         return Ok(());
@@ -374,9 +380,10 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
     if n > 1 {
         write_shard(&dir, &setup, shard, &rows).map_err(|e| e.to_string())?;
         println!(
-            "shard {k}/{n}: {} samples in {wall:.2} s → {}/samples.csv (merge with `cargo xtask montecarlo merge DIR...`)",
+            "shard {k}/{n}: {} samples in {wall:.2} s → {}/samples.csv (merge with `{} montecarlo merge DIR...`)",
             rows.len(),
-            dir.display()
+            dir.display(),
+            crate::program()
         );
         return Ok(());
     }
@@ -384,14 +391,11 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
     finish(&dir, &setup, &rows, Some(wall))
 }
 
-/// `cargo xtask montecarlo near-pi`: the escape time from near π against
+/// `geopid montecarlo near-pi`: the escape time from near π against
 /// `ln(1/δ)/λ₊` (`scenarios::montecarlo::near_pi`), `near-pi.csv`, and a
 /// failure when the fitted slope and 1/λ₊ differ by more than 1 %.
 pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
-    let dir = out.map_or_else(
-        || crate::workspace_root().join("target/montecarlo"),
-        Path::to_path_buf,
-    );
+    let dir = out.map_or_else(|| PathBuf::from("target/montecarlo"), Path::to_path_buf);
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let report = scenarios::montecarlo::near_pi().map_err(|e| e.to_string())?;
     if let Some((a, d)) = report.iter().find_map(|a| Some((a.axis, a.unsettled()?))) {

@@ -1,4 +1,4 @@
-//! `cargo xtask tune`: k_x, k_v, k_R and k_Ω tuned on the exact gradient of
+//! `geopid tune`: k_x, k_v, k_R and k_Ω tuned on the exact gradient of
 //! a scene's tracking cost (`scenarios::sensitivity::tune_gains`), each
 //! iteration printed, the tuned scene written.
 
@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use scenarios::sensitivity::{GainTuning, tune_gains};
 
-/// Options of `cargo xtask tune`.
+/// Options of `geopid tune`.
 #[derive(clap::Args, Debug)]
 pub struct TuneArgs {
     /// Scene (built-in name or TOML file) with a position segment.
@@ -26,7 +26,7 @@ pub struct TuneArgs {
     pub out: Option<PathBuf>,
 }
 
-/// `cargo xtask tune`. The cost is sampled at the scene's record interval.
+/// `geopid tune`. The cost is sampled at the scene's record interval.
 pub fn tune(a: TuneArgs) -> Result<(), String> {
     let scene = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
     let weight = scene.vehicle.mass * scene.vehicle.gravity;

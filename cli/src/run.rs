@@ -1,4 +1,4 @@
-//! `cargo xtask run`.
+//! `geopid run`.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use scenarios::scene::{BackendKind, Scalar};
-use scenarios::{RunOptions, RunOutput, Scene, SimError, builtin, output};
+use scenarios::{RunOptions, RunOutput, Scene, SceneError, SimError, builtin, output};
+
+use crate::Error;
 
 mod report;
 mod signals;
@@ -15,7 +17,7 @@ pub use report::health_warnings;
 use signals::install_signal_flags;
 pub use signals::{EXIT_SIGINT, EXIT_SIGPIPE, EXIT_SIGTERM};
 
-/// Options of `cargo xtask run`.
+/// Options of `geopid run`.
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
     /// Built-in scene name (see --list) or path to a TOML scene file.
@@ -77,7 +79,7 @@ pub struct RunArgs {
 }
 
 /// Applies the command-line overrides to a scene and validates it.
-pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, String> {
+pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, SceneError> {
     let overrides = scenarios::Overrides {
         integrator: a.integrator.clone(),
         dt: a.dt,
@@ -95,7 +97,7 @@ pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, String> {
         }),
         no_integral: a.no_integral,
     };
-    overrides.apply(scene).map_err(|e| e.to_string())
+    overrides.apply(scene)
 }
 
 /// Runs `scene` with a progress bar on long runs (hidden when not on a
@@ -202,55 +204,59 @@ fn outcome(
 }
 
 /// Every output path checked before the run: none may be the scene file.
-fn check_paths(a: &RunArgs, scene_name: &str) -> Result<(), String> {
+fn check_paths(a: &RunArgs, scene_name: &str) -> Result<(), Error> {
     let scene_file = Path::new(scene_name);
     output::check_paths(
         &[("--csv", a.csv.as_deref()), ("--mcap", a.mcap.as_deref())],
         a.plot.as_deref().map(|p| ("--plot", p)),
         scene_file.exists().then_some(scene_file),
     )
-    .map_err(|e| e.to_string())
+    .map_err(Error::Path)
 }
 
-/// `cargo xtask run`: returns the process's exit status (0, or 130/143
+/// `geopid run`: returns the process's exit status (0, or 130/143
 /// after SIGINT/SIGTERM with the outputs closed).
-pub fn run(a: RunArgs) -> Result<u8, String> {
+pub fn run(a: RunArgs) -> Result<u8, Error> {
     if a.list {
         for s in builtin::all() {
             println!("{:<28} {}", s.name, s.description);
         }
         return Ok(0);
     }
-    let name = a
-        .scene
-        .as_deref()
-        .ok_or("give a scene name or file (cargo xtask run --list shows the built-ins)")?;
-    let scene = apply(scenarios::load(name).map_err(|e| e.to_string())?, &a)?;
+    let name = a.scene.as_deref().ok_or_else(|| {
+        Error::Usage(format!(
+            "give a scene name or file (`{} scenes` lists the built-ins)",
+            crate::program()
+        ))
+    })?;
+    let scene = apply(scenarios::load(name)?, &a)?;
     if a.print_scene {
         print!("{}", scene.to_toml());
         return Ok(0);
     }
     check_paths(&a, name)?;
     if !a.yes {
-        scene
-            .check_size(1e9)
-            .map_err(|e| format!("{e}; pass --yes to run it anyway"))?;
+        scene.check_size(1e9).map_err(|mut e| {
+            e.message.push_str("; pass --yes to run it anyway");
+            Error::Scene(e)
+        })?;
     }
-    let (cancel, by_int, by_term) = install_signal_flags()?;
+    let (cancel, by_int, by_term) = install_signal_flags().map_err(|source| Error::Io {
+        what: "installing the signal handlers",
+        source,
+    })?;
     // The files are created now (as `.partial`) and written as the run
     // goes; memory does not grow with the duration.
     let mut csv = a
         .csv
         .as_deref()
         .map(output::CsvWriter::create)
-        .transpose()
-        .map_err(|e| e.to_string())?;
+        .transpose()?;
     let mut mcap = a
         .mcap
         .as_deref()
         .map(output::McapWriter::create)
-        .transpose()
-        .map_err(|e| e.to_string())?;
+        .transpose()?;
     let mut sinks: Vec<&mut dyn output::Sink> = Vec::new();
     if let Some(w) = csv.as_mut() {
         sinks.push(w);
@@ -290,8 +296,10 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         Box::new(std::io::stdout())
     };
     if let Ok(out) = &result {
-        write!(report, "{}", out.report(&scene))
-            .map_err(|e| format!("printing the summary: {e}"))?;
+        write!(report, "{}", out.report(&scene)).map_err(|source| Error::Io {
+            what: "printing the summary",
+            source,
+        })?;
     }
     let health_count = warnings.len() - result.as_ref().map_or(0, |o| o.warnings.len());
     // Both files close at once: each ends with an fsync, which for a long
@@ -314,28 +322,20 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         return Ok(EXIT_SIGPIPE);
     }
     if let Some(rows) = csv_done {
-        let rows = rows.map_err(|e| e.to_string())?;
+        let rows = rows?;
         let p = a.csv.as_deref().expect("a CSV writer has a path");
         let _ = writeln!(report, "  wrote {} ({rows} rows)", p.display());
     }
     if let Some(n) = mcap_done {
-        let n = n.map_err(|e| e.to_string())?;
+        let n = n?;
         let p = a.mcap.as_deref().expect("an MCAP writer has a path");
         let _ = writeln!(report, "  wrote {} ({n} messages)", p.display());
     }
     warnings.clear();
-    let out = result.map_err(|e| {
-        let held = match last_t {
-            Some(t) if streaming => format!(" (the outputs hold the run up to t = {t} s)"),
-            _ => String::new(),
-        };
-        // The library names the cause; what to change is the CLI's to say.
-        let hint = if e.is_divergence() {
-            " — try a smaller --dt (or --tol for dopri)"
-        } else {
-            ""
-        };
-        format!("{}: {e}{hint}{held}", scene.name)
+    let out = result.map_err(|source| Error::Run {
+        scene: scene.name.clone(),
+        source,
+        held_until: last_t.filter(|_| streaming),
     })?;
     if let Some(s) = &stopped {
         eprintln!(
@@ -345,12 +345,12 @@ pub fn run(a: RunArgs) -> Result<u8, String> {
         return Ok(status);
     }
     if a.strict && health_count > 0 {
-        return Err(format!(
-            "--strict: {health_count} numerical-health warning(s)"
-        ));
+        return Err(Error::Health {
+            count: health_count,
+        });
     }
     if let Some(dir) = &a.plot {
-        let files = scenarios::figures::run(dir, &scene, &out).map_err(|e| e.to_string())?;
+        let files = scenarios::figures::run(dir, &scene, &out).map_err(Error::Figure)?;
         for f in files {
             let _ = writeln!(report, "  wrote {}", f.display());
         }

@@ -1,4 +1,4 @@
-//! Signals and exit statuses of `cargo xtask run`.
+//! Signals and exit statuses of `geopid run`.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -20,15 +20,12 @@ pub type SignalFlags = (Arc<AtomicBool>, Arc<AtomicBool>, Arc<AtomicBool>);
 /// SIGINT and SIGTERM set `cancel` (and say which); the loop stops at the
 /// current step and the files are closed. A second signal while the first
 /// is being handled ends the process at once.
-pub fn install_signal_flags() -> Result<SignalFlags, String> {
+pub fn install_signal_flags() -> std::io::Result<SignalFlags> {
     let cancel = Arc::new(AtomicBool::new(false));
     let by_int = Arc::new(AtomicBool::new(false));
     let by_term = Arc::new(AtomicBool::new(false));
     for (sig, which) in [(SIGINT, &by_int), (SIGTERM, &by_term)] {
-        let reg = |r: std::io::Result<signal_hook::SigId>| {
-            r.map(|_| ())
-                .map_err(|e| format!("installing the signal handler: {e}"))
-        };
+        let reg = |r: std::io::Result<signal_hook::SigId>| r.map(|_| ());
         reg(signal_hook::flag::register_conditional_shutdown(
             sig,
             128 + sig,

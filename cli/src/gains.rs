@@ -1,4 +1,4 @@
-//! `cargo xtask gains`: the conditions of Propositions 2 and 3 for a
+//! `geopid gains`: the conditions of Propositions 2 and 3 for a
 //! scene's gains, with the bounds taken from the scene, and a search for
 //! gains that provably meet them (`--synthesize`).
 //!
@@ -14,7 +14,7 @@ use scenarios::gains::{CONDITIONS, NAMES, SceneBounds, Synthesis, report, scene_
 use scenarios::scene::GainsSpec;
 use serde_json::json;
 
-/// Options of `cargo xtask gains`.
+/// Options of `geopid gains`.
 #[derive(clap::Args, Debug)]
 pub struct GainsArgs {
     /// Built-in scene name or TOML scene file.
@@ -100,7 +100,7 @@ fn read_gains(path: &PathBuf, base: &GainsSpec) -> Result<GainsSpec, String> {
     serde_json::from_value(merged).map_err(|e| at(&format_args!("`gains`: {e}")))
 }
 
-/// `cargo xtask gains`.
+/// `geopid gains`.
 pub fn gains(a: GainsArgs) -> Result<(), String> {
     if !(a.psi1 > 0.0 && a.psi1 < 1.0) {
         return Err(format!("--psi1 {}: must be in (0, 1)", a.psi1));

@@ -1,4 +1,4 @@
-//! `cargo xtask sweep [scene]`: run time against error ("what
+//! `geopid sweep [scene]`: run time against error ("what
 //! fast and accurate is measured by"). Every stepper over a range of step
 //! sizes (dopri over tolerances) on the same scene; the error is the largest
 //! difference in x and R over a 0.1 s sample grid against Dormand–Prince at
@@ -10,7 +10,7 @@ use std::path::PathBuf;
 
 use scenarios::Scene;
 
-/// Options of `cargo xtask sweep`.
+/// Options of `geopid sweep`.
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
     /// Scene (built-in name or TOML file); default paper-flip.
@@ -27,6 +27,7 @@ pub struct SweepArgs {
 /// One point of a work-precision sweep.
 pub use scenarios::metrics::WorkPoint as Point;
 
+/// `geopid sweep`: the sweep, its CSV and figure.
 pub fn sweep(a: SweepArgs) -> Result<(), String> {
     let mut base = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
     match a.scalar.as_deref() {

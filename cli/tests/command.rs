@@ -1,0 +1,103 @@
+//! The `geopid` binary as a user meets it: its subcommands, its exit
+//! statuses, and a run's CSV against the library's own writer.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn geopid(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geopid"))
+        .args(args)
+        .output()
+        .expect("the geopid binary starts")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("geopid-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn help_lists_every_subcommand() {
+    let out = geopid(&["--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8(out.stdout).unwrap();
+    for sub in ["run", "scenes", "gains", "montecarlo", "tune", "sweep"] {
+        assert!(
+            help.lines().any(|l| l.trim_start().starts_with(sub)),
+            "`geopid --help` lacks `{sub}`:\n{help}"
+        );
+    }
+}
+
+#[test]
+fn scenes_lists_the_built_ins_one_a_line() {
+    let out = geopid(&["scenes"]);
+    assert!(out.status.success());
+    let names: Vec<String> = scenarios::builtin::all()
+        .iter()
+        .map(|s| s.name.clone())
+        .collect();
+    let listed: Vec<String> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(str::to_string)
+        .collect();
+    assert_eq!(listed, names);
+}
+
+#[test]
+fn a_bad_scene_or_value_exits_2_naming_it() {
+    let out = geopid(&["run", "no-such-scene"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("no scene `no-such-scene`"), "{err}");
+
+    let out = geopid(&["run", "paper-flip", "--dt", "-1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("integrator.dt = -1"), "{err}");
+}
+
+#[test]
+fn the_same_file_twice_is_refused_before_the_run() {
+    let p = scratch("twice.csv");
+    let p = p.to_str().unwrap();
+    let out = geopid(&["run", "paper-flip", "--csv", p, "--mcap", p]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("--mcap") && err.contains("same file"), "{err}");
+}
+
+#[test]
+fn a_run_writes_the_bytes_the_library_writes() {
+    let streamed = scratch("flip-cli.csv");
+    let out = geopid(&[
+        "run",
+        "paper-flip",
+        "--duration",
+        "1",
+        "--csv",
+        streamed.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        summary.contains("wrote") && summary.contains("rows"),
+        "{summary}"
+    );
+
+    let mut scene = scenarios::load("paper-flip").unwrap();
+    scene.duration = 1.0;
+    let run = scenarios::run(&scene, Default::default()).unwrap();
+    let whole = scratch("flip-lib.csv");
+    scenarios::output::write_csv(&whole, &run).unwrap();
+    assert!(
+        std::fs::read(&streamed).unwrap() == std::fs::read(&whole).unwrap(),
+        "the command's CSV differs from write_csv's"
+    );
+}
