@@ -6,7 +6,7 @@
 //! reference (3-2-1 Euler angles φ = (π/9) sin πt, θ = (π/9) cos πt, ψ = 0)
 //! under Δ_R, once with the gravity-moment compensation term the paper adds
 //! for the stand (M = M_PID − m g ρ × Rᵀe3) and once without. Integrated with
-//! the LGVI; the stand's `Vehicle::translates()` is false, so x and v are
+//! the LGVI; the stand's capabilities say it does not translate, so x and v are
 //! never touched.
 //!
 //! Run: `cargo run -p geopid-dynamics --example attitude_stand`
@@ -82,7 +82,7 @@ impl System<B, 3> for StandLoop {
         self.stand.inertia()
     }
     fn translates(&self) -> bool {
-        self.stand.translates()
+        self.stand.capabilities().translates
     }
     fn load(&mut self, t: f64, y: &State<B, 3>) -> Load<B, 3> {
         let (w, rate, _) = self.command(t, y);

@@ -12,11 +12,9 @@
 //! ```
 //!
 //! A simulation holds its vehicle as a `Box<dyn Vehicle<B>>`: the
-//! [`Vehicle`] trait says what a body is (mass, inertia, gravity, whether it
-//! translates), how actuator commands become a body [`Wrench`] and back,
-//! what the actuators can deliver, and which disturbance and configuration
-//! loads (gravity about a pivot) act on it. [`loads`] turns a vehicle, a
-//! state and a commanded wrench into the total force and moment that an
+//! [`Vehicle`] trait says what a body is (mass, inertia, gravity), how
+//! actuator commands become a body [`Wrench`] and back, and, in its one
+//! load path [`Vehicle::loads`], the total force and moment that an
 //! integrator needs; nothing in it is specific to quadrotors.
 //!
 //! Shipped vehicles: [`Quadrotor`] (the paper's, with its allocation and
@@ -27,16 +25,17 @@
 //! invariants and the exact solution in [`free_body`]).
 //!
 //! # Adding a vehicle
-//! Implement [`Vehicle`]: `mass`, `inertia`, `gravity`, `actuator_count`,
-//! `wrench_from_actuators` and `actuators_from_wrench` are required; override
-//! `translates` (false for a pinned body), `saturate` (actuator limits),
-//! `disturbance` and `configuration_moment` (loads that depend on the
-//! attitude, such as gravity about a pivot) when they apply. A vehicle with
-//! actuator dynamics declares internal states (`state_count`,
-//! `initial_states`, `state_rates`) and says what its actuators deliver
-//! (`applied_wrench`); simulations integrate those states with the body. The defaults cost
-//! nothing: a vehicle that returns `None` from `disturbance` is never asked to
-//! add one. `examples/attitude_stand.rs` is a complete second vehicle.
+//! Implement [`Vehicle`]'s seven required methods (`name`, `mass`,
+//! `inertia`, `gravity`, `actuator_count`, `wrench_from_actuators`,
+//! `actuators_from_wrench`). The simulation calls one more, `loads`, whose
+//! default is the rigid body under the command ([`body_loads`]); override
+//! it for a disturbance, aerodynamics, a wind or actuator dynamics.
+//! `capabilities` names the optional parts, each a value or a trait of its
+//! own: a body that does not translate, loads that read the rates,
+//! [`Actuators`] with limits or internal states (integrated with the body;
+//! their rates are written by `loads`), a [`ConfigurationMoment`] (gravity
+//! about a pivot). `examples/attitude_stand.rs` is a complete second
+//! vehicle.
 //!
 //! # Example
 //! The paper's quadrotor at rest: four equal rotor thrusts summing to the
@@ -70,10 +69,14 @@ use lie::{Backend, M3, Real, S, V3, ops};
 pub mod free_body;
 pub mod multirotor;
 pub mod paper;
+mod vehicle;
 mod vehicles;
 pub mod wind;
 
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
+pub use vehicle::{
+    Actuators, Capabilities, Command, ConfigurationMoment, LoadInput, Vehicle, body_loads, loads,
+};
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};
 
@@ -92,7 +95,7 @@ pub type RigidBodyState<B> = lie::RigidState<B, M3<B>>;
 /// body moment `M`.
 ///
 /// The moment comes first: a simulation writes the wrench and hands it to
-/// [`Vehicle::total_loads`] through memory at every evaluation. With the
+/// [`Vehicle::loads`] through memory at every evaluation. With the
 /// thrust first, both of the callee's 16-byte loads straddled two of the
 /// caller's stores, which the CPU cannot forward from its store buffer;
 /// with the moment first one still does.
@@ -180,226 +183,6 @@ impl fmt::Display for DynamicsError {
 }
 
 impl std::error::Error for DynamicsError {}
-
-/// What [`Vehicle::loads_at_rotor_speeds`] is given: commanded rotor
-/// speeds, the vehicle's internal states, and the wind at the vehicle.
-#[derive(Clone, Copy)]
-pub struct RotorSpeedInput<'a, B: Backend> {
-    /// Commanded rotor speeds, rad/s, one per rotor.
-    pub speeds: &'a [S<B>],
-    /// The vehicle's internal states (rotor speeds under a motor lag).
-    pub states: &'a [S<B>],
-    /// The inertial velocity of the air at the vehicle, m/s.
-    pub wind: V3<B>,
-}
-
-/// A vehicle: a rigid body with actuators. Object safe; simulations hold a
-/// `Box<dyn Vehicle<B>>` so that a new vehicle needs no change anywhere else.
-///
-/// # Example
-/// A body with one thruster along `−b3` and no moment (a "sled"): only the
-/// six required methods.
-///
-/// ```
-/// use dynamics::{DynamicsError, RigidBodyState, Vehicle, Wrench, loads};
-/// use lie::{Backend, GlamF64, M3, S, ops};
-/// type B = GlamF64;
-///
-/// struct Sled;
-/// impl Vehicle<B> for Sled {
-///     fn name(&self) -> &str { "sled" }
-///     fn mass(&self) -> S<B> { 1.0 }
-///     fn inertia(&self) -> M3<B> { ops::identity::<B>() }
-///     fn gravity(&self) -> S<B> { 9.81 }
-///     fn actuator_count(&self) -> usize { 1 }
-///     fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
-///         match u {
-///             [f] => Ok(Wrench { thrust: *f, moment: B::vec3(0.0, 0.0, 0.0) }),
-///             _ => Err(DynamicsError::ActuatorCount { expected: 1, got: u.len() }),
-///         }
-///     }
-///     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
-///         match out {
-///             [f] => { *f = w.thrust; Ok(()) }
-///             _ => Err(DynamicsError::ActuatorCount { expected: 1, got: out.len() }),
-///         }
-///     }
-/// }
-/// // Twice the weight: 1 g upwards (−e3) net.
-/// let w = Sled.wrench_from_actuators(&[2.0 * 9.81])?;
-/// let l = loads(&Sled, 0.0, &RigidBodyState::at_rest(), &w);
-/// assert_eq!(B::vec3_to_array(l.force), [0.0, 0.0, -9.81]);
-/// assert!(Sled.wrench_from_actuators(&[1.0, 2.0]).is_err());
-/// # Ok::<(), DynamicsError>(())
-/// ```
-pub trait Vehicle<B: Backend>: Send + Sync {
-    /// Short name for reports, e.g. `"quadrotor"`.
-    fn name(&self) -> &str;
-    /// Mass, kg.
-    fn mass(&self) -> S<B>;
-    /// Inertia about the point the body rotates about (the centre of mass
-    /// for a free body, the pivot for a pinned one), body frame, kg m².
-    fn inertia(&self) -> M3<B>;
-    /// Gravitational acceleration along `+e3`, m/s².
-    fn gravity(&self) -> S<B>;
-    /// Whether the body translates. `false` for a body on a spherical joint
-    /// (or an attitude-only study): integrators then leave `x` and `v`
-    /// untouched and skip their arithmetic.
-    fn translates(&self) -> bool {
-        true
-    }
-    /// Number of actuators (rotors, …).
-    fn actuator_count(&self) -> usize;
-    /// Wrench produced by the actuator values `u` (e.g. rotor thrusts).
-    fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError>;
-    /// Actuator values that produce `w` (the allocation inverse), written
-    /// into `out` (no allocation).
-    fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError>;
-    /// The wrench the actuators can actually deliver when `w` is commanded.
-    /// The default has no limits.
-    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
-        w
-    }
-    /// The disturbance at time `t` in `state`, `None` when there is none (the
-    /// default), so a clean vehicle evaluates nothing.
-    fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        None
-    }
-    /// Attitude-dependent moment such as gravity about a pivot, body frame;
-    /// `None` (the default) when there is none.
-    fn configuration_moment(&self, _state: &RigidBodyState<B>) -> Option<V3<B>> {
-        None
-    }
-    /// Number of internal states of the vehicle (rotor speeds or thrusts
-    /// with a first-order lag, motor currents, …) that an integrator must
-    /// advance with the body. The default, 0, costs nothing: such a vehicle
-    /// is never asked for rates.
-    fn state_count(&self) -> usize {
-        0
-    }
-    /// Values of the internal states at the start of a run, given the
-    /// first command (e.g. rotors already spinning at the commanded
-    /// thrust). `states` has `state_count()` entries, zero on entry.
-    fn initial_states(&self, _commanded: &Wrench<B>, _states: &mut [S<B>]) {}
-    /// Values of the internal states at the start of a run whose first
-    /// command is rotor speeds `speeds` (a mode that commands them): the
-    /// rotors spinning at them. The default leaves the states at zero.
-    fn initial_states_at_rotor_speeds(&self, _speeds: &[S<B>], _states: &mut [S<B>]) {}
-    /// Time derivatives of the internal states under the commanded wrench,
-    /// written into `rates` (`state_count()` entries).
-    fn state_rates(
-        &self,
-        _t: S<B>,
-        _body: &RigidBodyState<B>,
-        _commanded: &Wrench<B>,
-        _states: &[S<B>],
-        _rates: &mut [S<B>],
-    ) {
-    }
-    /// The wrench the actuators deliver when `commanded` is asked of them
-    /// in internal state `states`. The default (actuators that respond at
-    /// once) is [`Vehicle::saturate`] of the command.
-    fn applied_wrench(&self, commanded: &Wrench<B>, _states: &[S<B>]) -> Wrench<B> {
-        self.saturate(*commanded)
-    }
-    /// Whether `disturbance` or `configuration_moment` read the velocities
-    /// `v` or `Ω` (drag, say). Implicit integrators (LGVI) then iterate
-    /// their end-point loads; the default `false` lets them evaluate once.
-    fn rate_dependent_loads(&self) -> bool {
-        false
-    }
-    /// Everything an integrator needs from the vehicle at one evaluation:
-    /// the [`loads_applied`] of the [`Vehicle::applied_wrench`] of
-    /// `commanded` in internal state `states`.
-    ///
-    /// Leave the default: it composes the methods above, and because it is
-    /// compiled for each vehicle type, a simulation holding a
-    /// `dyn Vehicle` pays one virtual call per evaluation instead of one per
-    /// method (saturation, mass, gravity, disturbance, … are then inlined).
-    #[inline]
-    fn total_loads(
-        &self,
-        t: S<B>,
-        state: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
-    ) -> Loads<B> {
-        loads_applied(self, t, state, self.applied_wrench(commanded, states))
-    }
-    /// The loads when the rotors are commanded speeds (rad/s) directly
-    /// instead of a wrench ([`RotorSpeedInput`]: the speeds, the internal
-    /// states, the wind), with the internal states' rates written into
-    /// `rates`. `None` (the default) for a vehicle whose actuators are not
-    /// rotors with speeds.
-    fn loads_at_rotor_speeds(
-        &self,
-        _t: S<B>,
-        _state: &RigidBodyState<B>,
-        _input: RotorSpeedInput<'_, B>,
-        _rates: &mut [S<B>],
-    ) -> Option<Loads<B>> {
-        None
-    }
-    /// [`Vehicle::total_loads`] in a wind `wind` (the inertial velocity of
-    /// the air, m/s), which the simulation's environment evaluates at the
-    /// vehicle. The default ignores the wind (a vehicle without
-    /// aerodynamics feels none); vehicles with drag override this.
-    #[inline]
-    fn total_loads_in_wind(
-        &self,
-        t: S<B>,
-        state: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
-        _wind: V3<B>,
-    ) -> Loads<B> {
-        self.total_loads(t, state, commanded, states)
-    }
-}
-
-/// Total loads on `vehicle` in `state` at time `t` under the commanded
-/// `wrench` (passed through [`Vehicle::saturate`]): the right-hand sides of
-/// (eqn:EL2) and (eqn:EL4) without the gyroscopic term.
-#[inline]
-pub fn loads<B: Backend, V: Vehicle<B> + ?Sized>(
-    vehicle: &V,
-    t: S<B>,
-    state: &RigidBodyState<B>,
-    wrench: &Wrench<B>,
-) -> Loads<B> {
-    loads_applied(vehicle, t, state, vehicle.saturate(*wrench))
-}
-
-/// Total loads when the actuators deliver `applied` (already through
-/// [`Vehicle::saturate`] or [`Vehicle::applied_wrench`]): what [`loads`]
-/// computes after the saturation, for vehicles with internal states.
-#[inline]
-pub fn loads_applied<B: Backend, V: Vehicle<B> + ?Sized>(
-    vehicle: &V,
-    t: S<B>,
-    state: &RigidBodyState<B>,
-    applied: Wrench<B>,
-) -> Loads<B> {
-    let w = applied;
-    let [_, _, b3] = B::mat3_cols(state.r);
-    let zero = S::<B>::zero();
-    let mut force = if vehicle.translates() {
-        B::vec3(zero, zero, vehicle.mass() * vehicle.gravity()) - b3 * w.thrust
-    } else {
-        ops::zero::<B>()
-    };
-    let mut moment = w.moment;
-    if let Some(d) = vehicle.disturbance(t, state) {
-        if vehicle.translates() {
-            force = force + d.force;
-        }
-        moment = moment + d.moment;
-    }
-    if let Some(m) = vehicle.configuration_moment(state) {
-        moment = moment + m;
-    }
-    Loads { force, moment }
-}
 
 /// Kinetic energy `½ ΩᵀJΩ + ½ m vᵀv`.
 pub fn kinetic_energy<B: Backend>(mass: S<B>, inertia: M3<B>, state: &RigidBodyState<B>) -> S<B> {

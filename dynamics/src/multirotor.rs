@@ -29,8 +29,8 @@ use lie::num_traits::{One, Zero};
 use lie::{Backend, M3, Real, S, V3, ops};
 
 use crate::{
-    Disturbance, DynamicsError, Loads, RigidBodyState, RotorSpeedInput, Vehicle, Wrench,
-    check_inertia, check_positive,
+    Actuators, Capabilities, Command, Disturbance, DynamicsError, LoadInput, Loads, RigidBodyState,
+    Vehicle, Wrench, check_inertia, check_positive,
 };
 
 /// The most rotors a [`Multirotor`] has: its evaluations keep rotor
@@ -350,7 +350,7 @@ impl<B: Backend> Multirotor<B> {
         states: &[S<B>],
         f: impl FnOnce(&[S<B>]) -> T,
     ) -> T {
-        if self.p.tau_m > S::<B>::zero() {
+        if self.p.tau_m > S::<B>::zero() && !states.is_empty() {
             return f(states);
         }
         let mut cmd = [S::<B>::zero(); MAX_ROTORS];
@@ -485,20 +485,67 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
         self.thrusts(w, out);
         Ok(())
     }
-    /// The wrench of the clamped rotor speeds (no aerodynamics).
-    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
-        let mut speeds = [S::<B>::zero(); MAX_ROTORS];
-        let n = self.p.rotors.len().min(MAX_ROTORS);
-        self.speed_commands(&w, &mut speeds[..n]);
-        self.wrench_at_speeds(&speeds[..n]).unwrap_or(w)
+    /// The rotors' aerodynamic loads (and the disturbance, if one was
+    /// added) at their speeds: through the motor lag (clamped to the speed
+    /// limits) when `τ_m > 0` and the caller integrates the rotor speeds,
+    /// else straight at the commanded speeds.
+    #[inline]
+    fn loads(
+        &self,
+        _t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        let LoadInput {
+            command,
+            states,
+            wind,
+            ..
+        } = input;
+        let lagged = self.p.tau_m > S::<B>::zero() && !states.is_empty();
+        match command {
+            Command::Wrench(w) => {
+                let l = self.with_speeds(&w, states, |s| self.loads_at(state, s, wind));
+                if !states.is_empty() {
+                    let mut cmd = [S::<B>::zero(); MAX_ROTORS];
+                    let n = states.len().min(MAX_ROTORS);
+                    self.speed_commands(&w, &mut cmd[..n]);
+                    self.motor_rates(&cmd[..n], states, rates);
+                }
+                Some(l)
+            }
+            Command::RotorSpeeds(speeds) => {
+                if lagged {
+                    self.motor_rates(speeds, states, rates);
+                    return Some(self.loads_at(state, states, wind));
+                }
+                let mut w = [S::<B>::zero(); MAX_ROTORS];
+                let n = speeds.len().min(MAX_ROTORS);
+                for (w, c) in w.iter_mut().zip(speeds) {
+                    *w = c.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
+                }
+                Some(self.loads_at(state, &w[..n], wind))
+            }
+        }
     }
-    /// The wrench of the rotors at their current speeds, without
-    /// aerodynamics (what the log reports as thrust and moment).
-    fn applied_wrench(&self, commanded: &Wrench<B>, states: &[S<B>]) -> Wrench<B> {
-        self.with_speeds(commanded, states, |w| {
-            self.wrench_at_speeds(w).unwrap_or(*commanded)
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        Capabilities::RIGID
+            .rate_dependent(self.p.aero)
+            .with_actuators(self)
+    }
+}
+
+impl<B: Backend> Actuators<B> for Multirotor<B> {
+    /// The wrench of the rotors at their speeds (the integrated ones under
+    /// a motor lag, else the clamped commanded ones), without aerodynamics:
+    /// what the log reports as thrust and moment.
+    fn delivered(&self, command: &Wrench<B>, states: &[S<B>]) -> Wrench<B> {
+        self.with_speeds(command, states, |w| {
+            self.wrench_at_speeds(w).unwrap_or(*command)
         })
     }
+    /// One rotor speed a rotor under a motor lag (`τ_m > 0`), else none.
     fn state_count(&self) -> usize {
         if self.p.tau_m > S::<B>::zero() {
             self.p.rotors.len()
@@ -506,73 +553,16 @@ impl<B: Backend> Vehicle<B> for Multirotor<B> {
             0
         }
     }
-    /// Rotors spinning at the speeds of the first command.
-    fn initial_states(&self, commanded: &Wrench<B>, states: &mut [S<B>]) {
-        self.speed_commands(commanded, states);
-    }
-    fn initial_states_at_rotor_speeds(&self, speeds: &[S<B>], states: &mut [S<B>]) {
-        for (s, w) in states.iter_mut().zip(speeds) {
-            *s = w.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
+    /// Rotors spinning at the speeds of the first command (clamped to the
+    /// limits).
+    fn initial_states(&self, first: Command<'_, B>, states: &mut [S<B>]) {
+        match first {
+            Command::Wrench(w) => self.speed_commands(&w, states),
+            Command::RotorSpeeds(speeds) => {
+                for (s, w) in states.iter_mut().zip(speeds) {
+                    *s = w.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
+                }
+            }
         }
-    }
-    fn state_rates(
-        &self,
-        _t: S<B>,
-        _body: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
-        rates: &mut [S<B>],
-    ) {
-        let mut cmd = [S::<B>::zero(); MAX_ROTORS];
-        let n = states.len().min(MAX_ROTORS);
-        self.speed_commands(commanded, &mut cmd[..n]);
-        self.motor_rates(&cmd[..n], states, rates);
-    }
-    fn rate_dependent_loads(&self) -> bool {
-        self.p.aero
-    }
-    fn total_loads(
-        &self,
-        t: S<B>,
-        state: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
-    ) -> Loads<B> {
-        self.total_loads_in_wind(t, state, commanded, states, ops::zero::<B>())
-    }
-    /// The commands go through the motor lag (clamped to the speed
-    /// limits), or straight to the rotors when `τ_m = 0`.
-    fn loads_at_rotor_speeds(
-        &self,
-        _t: S<B>,
-        state: &RigidBodyState<B>,
-        input: RotorSpeedInput<'_, B>,
-        rates: &mut [S<B>],
-    ) -> Option<Loads<B>> {
-        let RotorSpeedInput {
-            speeds,
-            states,
-            wind,
-        } = input;
-        if self.p.tau_m > S::<B>::zero() {
-            self.motor_rates(speeds, states, rates);
-            return Some(self.loads_at(state, states, wind));
-        }
-        let mut w = [S::<B>::zero(); MAX_ROTORS];
-        let n = speeds.len().min(MAX_ROTORS);
-        for (w, c) in w.iter_mut().zip(speeds) {
-            *w = c.max(self.p.rotor_speed_min).min(self.p.rotor_speed_max);
-        }
-        Some(self.loads_at(state, &w[..n], wind))
-    }
-    fn total_loads_in_wind(
-        &self,
-        _t: S<B>,
-        state: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
-        wind: V3<B>,
-    ) -> Loads<B> {
-        self.with_speeds(commanded, states, |w| self.loads_at(state, w, wind))
     }
 }

@@ -5,7 +5,8 @@ use lie::num_traits::Zero;
 use lie::{Backend, M3, Real, S, V3, ops};
 
 use crate::{
-    Disturbance, DynamicsError, RigidBodyState, Vehicle, Wrench, check_inertia, check_positive,
+    Actuators, Capabilities, ConfigurationMoment, Disturbance, DynamicsError, LoadInput, Loads,
+    RigidBodyState, Vehicle, Wrench, body_loads, check_inertia, check_positive,
 };
 
 /// Per-rotor thrust limits, N. The paper's model allows signed thrust, so
@@ -268,17 +269,43 @@ impl<B: Backend> Vehicle<B> for Quadrotor<B> {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
         rotors::write::<B, _>(out, &self.rotor_thrusts(w))
     }
-    /// Clamps each rotor's thrust to the limits and maps back; a plain clamp
-    /// (no priority to attitude over thrust), which is what the hardware does
-    /// when the mixer is naive.
-    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
+    /// The paper's vehicle: gravity, the delivered thrust and moment, the
+    /// fixed disturbance (Δ_x, Δ_R); it takes no rotor speeds.
+    #[inline]
+    fn loads(
+        &self,
+        _t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        _rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        let crate::Command::Wrench(w) = input.command else {
+            return None;
+        };
+        Some(body_loads(self, state, self.saturate(w), self.disturbance))
+    }
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        Capabilities::RIGID.with_actuators(self)
+    }
+}
+
+impl<B: Backend> Actuators<B> for Quadrotor<B> {
+    /// Within the rotor limits ([`Quadrotor::saturate`]); no lag.
+    fn delivered(&self, command: &Wrench<B>, _states: &[S<B>]) -> Wrench<B> {
+        self.saturate(*command)
+    }
+}
+
+impl<B: Backend> Quadrotor<B> {
+    /// The wrench the rotors deliver when `w` is commanded: each rotor's
+    /// thrust clamped to the limits and mapped back; a plain clamp (no
+    /// priority to attitude over thrust), which is what the hardware does
+    /// when the mixer is naive. The identity without limits.
+    pub fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
         match self.limits {
             None => w,
             Some(l) => self.wrench_of(rotors::clamp(self.rotor_thrusts(&w), l)),
         }
-    }
-    fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        self.disturbance
     }
 }
 
@@ -363,9 +390,6 @@ impl<B: Backend> Vehicle<B> for AttitudeStand<B> {
     fn gravity(&self) -> S<B> {
         self.quad.gravity
     }
-    fn translates(&self) -> bool {
-        false
-    }
     fn actuator_count(&self) -> usize {
         4
     }
@@ -375,18 +399,42 @@ impl<B: Backend> Vehicle<B> for AttitudeStand<B> {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
         self.quad.actuators_from_wrench(w, out)
     }
-    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
-        self.quad.saturate(w)
+    /// The quadrotor's loads about the pivot: no force (the joint holds
+    /// the body), the delivered moment, Δ_R and gravity's moment.
+    #[inline]
+    fn loads(
+        &self,
+        _t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        _rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        let crate::Command::Wrench(w) = input.command else {
+            return None;
+        };
+        Some(body_loads(
+            self,
+            state,
+            self.quad.saturate(w),
+            self.quad.fixed_disturbance(),
+        ))
     }
-    fn disturbance(&self, t: S<B>, state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        self.quad.disturbance(t, state)
-    }
-    fn configuration_moment(&self, state: &RigidBodyState<B>) -> Option<V3<B>> {
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        let caps = Capabilities::RIGID
+            .translating(false)
+            .with_actuators(&self.quad);
         if self.height == S::<B>::zero() {
-            None
+            caps
         } else {
-            Some(self.gravity_moment(state.r))
+            caps.with_configuration_moment(self)
         }
+    }
+}
+
+impl<B: Backend> ConfigurationMoment<B> for AttitudeStand<B> {
+    /// Gravity about the pivot, [`AttitudeStand::gravity_moment`].
+    fn moment(&self, state: &RigidBodyState<B>) -> V3<B> {
+        self.gravity_moment(state.r)
     }
 }
 
@@ -428,9 +476,6 @@ impl<B: Backend> Vehicle<B> for FreeRigidBody<B> {
     fn gravity(&self) -> S<B> {
         S::<B>::zero()
     }
-    fn translates(&self) -> bool {
-        false
-    }
     fn actuator_count(&self) -> usize {
         0
     }
@@ -451,6 +496,9 @@ impl<B: Backend> Vehicle<B> for FreeRigidBody<B> {
             });
         }
         Ok(())
+    }
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        Capabilities::RIGID.translating(false)
     }
 }
 
@@ -565,15 +613,46 @@ impl<B: Backend> Vehicle<B> for Hexarotor<B> {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
         rotors::write::<B, _>(out, &self.rotor_thrusts(w))
     }
-    /// Clamps the minimum-norm rotor thrusts and maps back (no
-    /// redistribution through the null space).
-    fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
+    /// Gravity, the delivered thrust and moment, the fixed disturbance.
+    #[inline]
+    fn loads(
+        &self,
+        _t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        _rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        let crate::Command::Wrench(w) = input.command else {
+            return None;
+        };
+        Some(body_loads(
+            self,
+            state,
+            self.saturate(w),
+            self.base.fixed_disturbance(),
+        ))
+    }
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        Capabilities::RIGID.with_actuators(self)
+    }
+}
+
+impl<B: Backend> Actuators<B> for Hexarotor<B> {
+    /// Within the rotor limits ([`Hexarotor::saturate`]); no lag.
+    fn delivered(&self, command: &Wrench<B>, _states: &[S<B>]) -> Wrench<B> {
+        self.saturate(*command)
+    }
+}
+
+impl<B: Backend> Hexarotor<B> {
+    /// The wrench the rotors deliver when `w` is commanded: the
+    /// minimum-norm rotor thrusts clamped and mapped back (no
+    /// redistribution through the null space). The identity without
+    /// limits.
+    pub fn saturate(&self, w: Wrench<B>) -> Wrench<B> {
         match self.base.limits {
             None => w,
             Some(l) => self.wrench_of(&rotors::clamp(self.rotor_thrusts(&w), l)),
         }
-    }
-    fn disturbance(&self, _t: S<B>, _state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        self.base.disturbance
     }
 }

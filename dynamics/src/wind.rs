@@ -1,7 +1,7 @@
 //! Wind: the inertial velocity of the air as a function of time and
 //! position, part of the environment a simulation evaluates at the vehicle
-//! and hands to [`Vehicle::total_loads_in_wind`](crate::Vehicle::total_loads_in_wind)
-//! (vehicles without aerodynamics ignore it). Frames are this crate's
+//! and hands to [`Vehicle::loads`](crate::Vehicle::loads) in its
+//! [`LoadInput`](crate::LoadInput) (vehicles without aerodynamics ignore it). Frames are this crate's
 //! (inertial `e3` down), units m/s.
 //!
 //! Built in: [`ConstantWind`], [`SinusoidWind`], [`LadderWind`] (steps; the

@@ -14,7 +14,10 @@
 //! loop in `scenarios`) check the model against RotorPy itself; these pin
 //! each term where the vehicle is defined, so a broken term fails here.
 
-use dynamics::{Multirotor, MultirotorParams, RigidBodyState, RotorSpeedInput, Vehicle, Wrench};
+use dynamics::{
+    Actuators, Command, LoadInput, Multirotor, MultirotorParams, RigidBodyState, Vehicle, Wrench,
+    loads,
+};
 use lie::{NalgebraF64, So3Mat};
 
 type B = NalgebraF64;
@@ -221,11 +224,11 @@ fn thrusts_speeds_and_the_allocation_inverse() {
             }
             // Without a lag the rotors run at the command's speeds, so the
             // applied wrench is the command.
-            let applied = v.applied_wrench(&w, &[]);
+            let applied = v.delivered(&w, &[]);
             assert!((applied.thrust - w.thrust).abs() < 1e-12);
             assert!((applied.moment - w.moment).norm() < 1e-12);
             let mut states = vec![0.0; rotors];
-            v.initial_states_at_rotor_speeds(&speeds, &mut states);
+            v.initial_states(Command::RotorSpeeds(&speeds), &mut states);
             assert_eq!(states, speeds, "speeds inside the limits are kept");
         }
         // Outside the limits: clamped, as the motors are.
@@ -235,7 +238,7 @@ fn thrusts_speeds_and_the_allocation_inverse() {
             .map(|k| if k % 2 == 0 { -50.0 } else { 1e5 })
             .collect();
         let mut states = vec![0.0; rotors];
-        v.initial_states_at_rotor_speeds(&wild, &mut states);
+        v.initial_states(Command::RotorSpeeds(&wild), &mut states);
         for (k, s) in states.iter().enumerate() {
             let want = if k % 2 == 0 {
                 p.rotor_speed_min
@@ -260,19 +263,18 @@ fn lagged_rotors_apply_their_own_speeds() {
         thrust: 6.0,
         moment: B::vec3(0.1, 0.0, 0.0),
     };
-    let w = v.applied_wrench(&cmd, &states);
+    let w = v.delivered(&cmd, &states);
     let (f, m) = reference(&p, &states, [0.0; 3], [0.0; 3]);
     assert!((w.thrust + f[2]).abs() < 1e-13 && rel(arr(w.moment), m) < 1e-14);
     let speeds = [100.0, 2000.0, -5.0, 900.0];
     let mut rates = [0.0; 4];
     let st = RigidBodyState::<B>::at_rest();
-    let input = RotorSpeedInput {
-        speeds: &speeds,
-        states: &states,
-        wind: B::vec3(0.0, 0.0, 0.0),
-    };
-    v.loads_at_rotor_speeds(0.0, &st, input, &mut rates)
-        .unwrap();
+    let input = LoadInput::new(
+        Command::RotorSpeeds(&speeds),
+        &states,
+        B::vec3(0.0, 0.0, 0.0),
+    );
+    v.loads(0.0, &st, input, &mut rates).unwrap();
     for k in 0..4 {
         let c = speeds[k].clamp(p.rotor_speed_min, p.rotor_speed_max);
         let want = (c - states[k]) / p.tau_m;
@@ -329,7 +331,7 @@ fn counts_and_the_lagless_loads_follow_the_rotors() {
             thrust: p.mass * p.gravity,
             moment: B::vec3(0.0, 0.0, 0.0),
         };
-        let l = v.total_loads(0.0, &RigidBodyState::<B>::at_rest(), &hover, &[]);
+        let l = loads(&v, 0.0, &RigidBodyState::<B>::at_rest(), &hover);
         assert!(
             l.force.norm() < 1e-13 && l.moment.norm() < 1e-15,
             "{rotors} rotors: {l:?}"

@@ -195,7 +195,7 @@ fn hover_loads_balance_and_disturbance_adds() {
 #[test]
 fn stand_gravity_tips_the_body_over_and_it_cannot_translate() {
     let stand = AttitudeStand::new(Quadrotor::<B>::paper(), 0.05).unwrap();
-    assert!(!stand.translates());
+    assert!(!stand.capabilities().translates);
     let (m, g, l) = (stand.mass(), stand.gravity(), 0.05);
     for axis in [
         B::vec3(1.0, 0.0, 0.0),

@@ -230,7 +230,7 @@ mod direct {
                 thrust: out.thrust,
                 moment: out.moment,
             };
-            let l = self.vehicle.total_loads(t, &y.body, &w, &[]);
+            let l = dynamics::loads(&self.vehicle, t, &y.body, &w);
             Load {
                 force: l.force,
                 moment: l.moment,

@@ -281,7 +281,7 @@ impl<L: SimdBackend> LaneSystem<L, 6> for PositionLoop<L> {
                 model: self.model,
             },
         );
-        // `dynamics::loads_applied` for a quadrotor without rotor limits.
+        // `dynamics::body_loads` for a quadrotor without rotor limits.
         let z = S::<L>::zero();
         let [_, _, b3] = L::mat3_cols(y.body.r);
         let force = L::vec3(z, z, self.weight) - b3 * out.thrust + self.delta_x;

@@ -162,6 +162,15 @@ impl Vehicle<B> for ManyStates {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [f64]) -> Result<(), DynamicsError> {
         self.0.actuators_from_wrench(w, out)
     }
+    fn capabilities(&self) -> dynamics::Capabilities<'_, B> {
+        dynamics::Capabilities::RIGID.with_actuators(self)
+    }
+}
+
+impl dynamics::Actuators<B> for ManyStates {
+    fn delivered(&self, commanded: &Wrench<B>, _states: &[f64]) -> Wrench<B> {
+        *commanded
+    }
     fn state_count(&self) -> usize {
         11
     }

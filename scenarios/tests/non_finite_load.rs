@@ -3,7 +3,10 @@
 //! the controller, whose later inputs in that step are non-finite only
 //! because of the load.
 
-use dynamics::{Disturbance, DynamicsError, Quadrotor, RigidBodyState, Vehicle, Wrench};
+use dynamics::{
+    Command, Disturbance, DynamicsError, LoadInput, Loads, Quadrotor, RigidBodyState, Vehicle,
+    Wrench, body_loads,
+};
 use integrators::StepError;
 use lie::{M3, NalgebraF64, S};
 use scenarios::{SimError, Simulation, builtin};
@@ -39,11 +42,21 @@ impl Vehicle<B> for GoesBad {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
         self.inner.actuators_from_wrench(w, out)
     }
-    fn disturbance(&self, t: S<B>, _: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        (t >= self.t_bad).then(|| Disturbance {
+    fn loads(
+        &self,
+        t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        _rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        let Command::Wrench(w) = input.command else {
+            return None;
+        };
+        let bad = (t >= self.t_bad).then(|| Disturbance {
             force: B::vec3(0.0, f64::NAN, 0.0),
             moment: B::vec3(0.0, 0.0, 0.0),
-        })
+        });
+        Some(body_loads(self, state, w, bad))
     }
 }
 

@@ -4,16 +4,15 @@
 //! inverse of the commanded wrench and `sat` clamps to the rotor's range.
 //! The body feels the wrench of the thrusts `T`, not of the command.
 //!
-//! Written as a crate outside this workspace would write it: only public
-//! items of `dynamics` and `lie`. Shared by the `custom_vehicle` example
-//! and the tests that check it against the built-in quadrotor.
+//! Written as an outside crate would: public items of `dynamics` and `lie`
+//! only. Shared by the example and the tests comparing it with the quadrotor.
 
-use dynamics::{Disturbance, DynamicsError, Quadrotor, RigidBodyState, Vehicle, Wrench};
+use dynamics::{Actuators, Capabilities, Command, LoadInput, Loads, RigidBodyState, body_loads};
+use dynamics::{DynamicsError, Quadrotor, Vehicle, Wrench};
 use lie::{Backend, M3, Real, S};
 
-/// The paper's airframe with rotor lag `tau` (s; 0 = rotors follow the
-/// command at once, and the vehicle declares no states) and optional
-/// per-rotor thrust limits `(min, max)` in N.
+/// The paper's airframe with rotor lag `tau` (s; 0: none, and no states)
+/// and optional per-rotor thrust limits `(min, max)` in N.
 pub struct LaggedQuadrotor<B: Backend> {
     quad: Quadrotor<B>,
     tau: S<B>,
@@ -60,10 +59,6 @@ impl<B: Backend> LaggedQuadrotor<B> {
         }
         u
     }
-
-    fn lagged(&self) -> bool {
-        self.tau > S::<B>::lit(0.0)
-    }
 }
 
 impl<B: Backend> Vehicle<B> for LaggedQuadrotor<B> {
@@ -88,37 +83,42 @@ impl<B: Backend> Vehicle<B> for LaggedQuadrotor<B> {
     fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
         self.quad.actuators_from_wrench(w, out)
     }
-    fn disturbance(&self, t: S<B>, state: &RigidBodyState<B>) -> Option<Disturbance<B>> {
-        self.quad.disturbance(t, state)
-    }
-    fn state_count(&self) -> usize {
-        if self.lagged() { 4 } else { 0 }
-    }
-    fn initial_states(&self, commanded: &Wrench<B>, states: &mut [S<B>]) {
-        // Rotors already spinning at what the first command asks.
-        states.copy_from_slice(&self.demanded(commanded));
-    }
-    fn state_rates(
+    fn loads(
         &self,
         _t: S<B>,
-        _body: &RigidBodyState<B>,
-        commanded: &Wrench<B>,
-        states: &[S<B>],
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
         rates: &mut [S<B>],
-    ) {
-        let u = self.demanded(commanded);
-        for k in 0..4 {
+    ) -> Option<Loads<B>> {
+        let Command::Wrench(w) = input.command else {
+            return None;
+        };
+        let (u, states) = (self.demanded(&w), input.states);
+        for k in 0..rates.len().min(states.len()) {
             rates[k] = (u[k] - states[k]) / self.tau;
         }
+        let d = self.delivered(&w, states);
+        Some(body_loads(self, state, d, self.quad.fixed_disturbance()))
     }
-    fn applied_wrench(&self, commanded: &Wrench<B>, states: &[S<B>]) -> Wrench<B> {
-        let thrusts = if self.lagged() {
-            [states[0], states[1], states[2], states[3]]
-        } else {
-            self.demanded(commanded)
-        };
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        Capabilities::RIGID.with_actuators(self)
+    }
+}
+
+impl<B: Backend> Actuators<B> for LaggedQuadrotor<B> {
+    fn delivered(&self, commanded: &Wrench<B>, states: &[S<B>]) -> Wrench<B> {
+        let t = <[S<B>; 4]>::try_from(states).unwrap_or_else(|_| self.demanded(commanded));
         self.quad
-            .wrench_from_actuators(&thrusts)
+            .wrench_from_actuators(&t)
             .unwrap_or_else(|_| Wrench::zero())
+    }
+    fn state_count(&self) -> usize {
+        if self.tau > S::<B>::lit(0.0) { 4 } else { 0 }
+    }
+    fn initial_states(&self, first: Command<'_, B>, states: &mut [S<B>]) {
+        // Rotors already spinning at what the first command asks.
+        if let Command::Wrench(w) = first {
+            states.copy_from_slice(&self.demanded(&w));
+        }
     }
 }

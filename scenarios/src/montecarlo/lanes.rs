@@ -24,7 +24,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use controllers::{
     AccelerationModel, AttitudeGains, PositionGains, PositionReference, RigidBodyParams,
 };
-use dynamics::{Disturbance, RigidBodyState, Vehicle, Wrench};
+use dynamics::{Disturbance, Vehicle, Wrench};
 use integrators::State;
 use integrators::lanes::{DopriLanes, LaneFailure, LaneSystem};
 use lie::{GlamF64, NalgebraF64x4, S, SimdMask, SimdReal, V3};
@@ -72,6 +72,8 @@ impl LaneUse {
 /// thrusts for the peaks) and the pieces of its closed loop.
 struct Model {
     vehicle: Box<dyn Vehicle<E>>,
+    /// The scene's fixed disturbance (Δ_x, Δ_R), which the vehicle adds.
+    disturbance: Option<Disturbance<E>>,
     params: RigidBodyParams<E>,
     pos: PositionGains<E>,
     att: AttitudeGains<E>,
@@ -91,8 +93,13 @@ impl Model {
         let vehicle = crate::build_vehicle::<E>(&scene)?;
         let (params, pos, att, model) =
             crate::from_scene::gains::<E>(&scene, vehicle.as_ref(), crate::from_scene::Seeds::NONE);
+        let disturbance = scene.disturbance.as_ref().map(|d| Disturbance {
+            force: E::vec3(d.force[0], d.force[1], d.force[2]),
+            moment: E::vec3(d.moment[0], d.moment[1], d.moment[2]),
+        });
         Ok(Self {
             vehicle,
+            disturbance,
             params,
             pos,
             att,
@@ -101,7 +108,7 @@ impl Model {
     }
 
     fn disturbance(&self) -> Option<Disturbance<E>> {
-        self.vehicle.disturbance(0.0, &RigidBodyState::at_rest())
+        self.disturbance
     }
 
     /// The position experiment's loop on `B` (one lane for `B = E`):

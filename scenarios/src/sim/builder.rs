@@ -65,7 +65,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         self
     }
     /// Initial values of the vehicle's internal states (rotor speeds, say;
-    /// [`Vehicle::state_count`] of them, in the vehicle's order). Without
+    /// [`dynamics::Actuators::state_count`] of them, in the vehicle's order). Without
     /// them, the run starts with the states where the first command puts
     /// them (rotors spinning at the speeds of the first command).
     pub fn vehicle_states(mut self, values: &[S<B>]) -> Self {
@@ -132,7 +132,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
     }
     /// The wind the vehicle flies in (none by default): evaluated at the
     /// vehicle's position at every load and handed to
-    /// [`Vehicle::total_loads_in_wind`]; the steps land on its jumps.
+    /// [`Vehicle::loads`]; the steps land on its jumps.
     pub fn wind(mut self, wind: Box<dyn Wind + 'a>) -> Self {
         self.wind = Some(wind);
         self
@@ -239,7 +239,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         }
         finite("integrals", &self.integrals)?;
         let mut initial = State::<B, N>::new(self.initial);
-        if !self.vehicle.translates() {
+        if !self.vehicle.capabilities().translates {
             initial.body.x = lie::ops::zero::<B>();
             initial.body.v = lie::ops::zero::<B>();
         }
@@ -295,7 +295,11 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
             .unwrap_or(0);
         Layout {
             integrals,
-            vehicle_states: self.vehicle.state_count(),
+            vehicle_states: self
+                .vehicle
+                .capabilities()
+                .actuators
+                .map_or(0, |a| a.state_count()),
         }
     }
 

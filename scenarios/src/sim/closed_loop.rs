@@ -3,7 +3,7 @@
 //! active, switching into the next).
 
 use controllers::{ControlError, ModeOutput};
-use dynamics::{RotorSpeedInput, Vehicle, Wind, Wrench};
+use dynamics::{Capabilities, Command as Ask, LoadInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::{Backend, Real, S, SimdReal, V3};
 
@@ -84,6 +84,8 @@ pub(crate) struct Command<B: Backend, const N: usize> {
 
 pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub vehicle: &'s dyn Vehicle<B>,
+    /// The vehicle's optional parts, read once.
+    pub caps: Capabilities<'s, B>,
     pub wind: Option<&'s mut (dyn Wind + 'a)>,
     pub plan: &'s mut [Segment<'a, B>],
     pub active: usize,
@@ -213,6 +215,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         let speeds_mode = plan.first().is_some_and(|s| s.mode.commands_rotor_speeds());
         Ok(Self {
             vehicle,
+            caps: vehicle.capabilities(),
             wind,
             plan,
             active: 0,
@@ -257,6 +260,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             .is_some_and(|s| s.mode.commands_rotor_speeds());
         Self {
             vehicle,
+            caps: vehicle.capabilities(),
             wind,
             plan,
             active: p.active,
@@ -364,10 +368,10 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         match answer {
             Ok(mut out) => {
                 if self.compensate
-                    && let Some(mo) = self.vehicle.configuration_moment(&y.body)
+                    && let Some(c) = self.caps.configuration_moment
                 {
                     let m = moment(&mut out);
-                    *m = *m - mo;
+                    *m = *m - c.moment(&y.body);
                 }
                 Some(out)
             }
@@ -588,7 +592,7 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         self.inertia_inv
     }
     fn translates(&self) -> bool {
-        self.vehicle.translates()
+        self.caps.translates
     }
     /// The plan's integrals and the vehicle's states.
     fn extra_in_use(&self) -> usize {
@@ -597,7 +601,7 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
     fn load_depends_on_rates(&self) -> bool {
         (!self.plan.is_empty() && !self.sampled)
             || self.layout.vehicle_states > 0
-            || self.vehicle.rate_dependent_loads()
+            || self.caps.rate_dependent_loads
     }
     // Inlined into the stepper: out of line, the load came back through
     // memory and the step waited on it.
@@ -635,39 +639,23 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             let a = self.wind_at(t.to_f64_lossless(), y);
             B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
         });
-        let l = if let Some((buf, n)) = speeds {
-            let air = air.unwrap_or_else(lie::ops::zero::<B>);
-            let input = RotorSpeedInput {
-                speeds: &buf[..n],
-                states,
-                wind: air,
-            };
-            match self.vehicle.loads_at_rotor_speeds(
-                t,
-                &y.body,
-                input,
-                at.vehicle_states_mut(&mut rates),
-            ) {
-                Some(l) => l,
-                None => {
-                    let mode = self.plan[self.active].mode.name();
-                    self.error
-                        .get_or_insert(ControlError::RotorSpeedsUnsupported { mode });
-                    return nan_load();
-                }
+        let air = air.unwrap_or_else(lie::ops::zero::<B>);
+        let ask = match &speeds {
+            Some((buf, n)) => Ask::RotorSpeeds(&buf[..*n]),
+            None => Ask::Wrench(w),
+        };
+        let input = LoadInput::new(ask, states, air);
+        let l = match self
+            .vehicle
+            .loads(t, &y.body, input, at.vehicle_states_mut(&mut rates))
+        {
+            Some(l) => l,
+            None => {
+                let mode = self.plan[self.active].mode.name();
+                self.error
+                    .get_or_insert(ControlError::RotorSpeedsUnsupported { mode });
+                return nan_load();
             }
-        } else {
-            let l = match air {
-                None => self.vehicle.total_loads(t, &y.body, &w, states),
-                Some(air) => self
-                    .vehicle
-                    .total_loads_in_wind(t, &y.body, &w, states, air),
-            };
-            if at.vehicle_states > 0 {
-                self.vehicle
-                    .state_rates(t, &y.body, &w, states, at.vehicle_states_mut(&mut rates));
-            }
-            l
         };
         Load {
             force: l.force,

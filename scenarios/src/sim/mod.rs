@@ -20,7 +20,7 @@
 //! scalars: slots `0..m` are the plan's integral register (`m` = the
 //! largest [`Mode::integral_count`] of the plan; the paper's modes use
 //! `[e_I, e_i]`, so `m = 6`), slots `m..m + n` the vehicle's internal
-//! states (`n` = [`Vehicle::state_count`]). Users meet them by name
+//! states (`n` = [`dynamics::Actuators::state_count`]). Users meet them by name
 //! ([`SimState::integrals`], [`SimState::vehicle_states`],
 //! [`SimulationBuilder::integrals`], [`SimulationBuilder::vehicle_states`]),
 //! never by offset, and never choose the array's size:

@@ -2,7 +2,7 @@
 //! vehicle models of `dynamics` meet the steppers of `integrators` (neither
 //! of which knows the other).
 
-use dynamics::{Vehicle, Wrench, loads};
+use dynamics::{Capabilities, Vehicle, Wrench, loads};
 use integrators::{Load, State, System};
 use lie::{Backend, M3, S};
 
@@ -36,6 +36,7 @@ use lie::{Backend, M3, S};
 /// ```
 pub struct OpenLoop<'a, B: Backend> {
     vehicle: &'a dyn Vehicle<B>,
+    caps: Capabilities<'a, B>,
     /// The commanded wrench, held.
     pub wrench: Wrench<B>,
     inertia: M3<B>,
@@ -51,6 +52,7 @@ impl<'a, B: Backend> OpenLoop<'a, B> {
         let inertia = vehicle.inertia();
         Self {
             vehicle,
+            caps: vehicle.capabilities(),
             wrench,
             inertia,
             inertia_inv: integrators::inverse_or_nan::<B>(inertia),
@@ -69,10 +71,10 @@ impl<B: Backend> System<B, 0> for OpenLoop<'_, B> {
         self.inertia_inv
     }
     fn translates(&self) -> bool {
-        self.vehicle.translates()
+        self.caps.translates
     }
     fn load_depends_on_rates(&self) -> bool {
-        self.vehicle.rate_dependent_loads()
+        self.caps.rate_dependent_loads
     }
     fn load(&mut self, t: S<B>, y: &State<B, 0>) -> Load<B, 0> {
         let l = loads(self.vehicle, t, &y.body, &self.wrench);

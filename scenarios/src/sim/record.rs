@@ -72,13 +72,14 @@ fn rotor_thrusts<B: Backend, const N: usize>(
     let vehicle = sys.vehicle;
     let n = vehicle.actuator_count().min(8);
     if n > 0 {
-        let w = vehicle.applied_wrench(
-            &Wrench {
-                thrust: c.out.thrust,
-                moment: c.out.moment,
-            },
-            sys.vehicle_states(y),
-        );
+        let asked = Wrench {
+            thrust: c.out.thrust,
+            moment: c.out.moment,
+        };
+        let w = match sys.caps.actuators {
+            Some(a) => a.delivered(&asked, sys.vehicle_states(y)),
+            None => asked,
+        };
         vehicle
             .actuators_from_wrench(&w, &mut buf[..n])
             .map_err(SimError::Vehicle)?;
@@ -151,7 +152,6 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     s.e_pos = [ex(3), ex(4), ex(5)];
     let states = sys.vehicle_states(y);
     s.vehicle_states = states.iter().map(|c| c.to_f64_lossless()).collect();
-    let vehicle = sys.vehicle;
     if let Some(c) = cmd {
         let mode = &sys.plan[sys.active].mode;
         s.thrust = c.out.thrust.to_f64_lossless();
@@ -164,7 +164,7 @@ pub(crate) fn sample<B: Backend, const N: usize>(
         // may be older in sampled mode).
         let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);
         s.psi = r.psi(c.out.desired).to_f64_lossless();
-        if vehicle.translates()
+        if sys.caps.translates
             && let Some(d) = mode.desired_position(t)
         {
             s.xd = d;

@@ -583,21 +583,22 @@ fn begin<B: Backend, const N: usize>(
             sys.command(l(0.0), y)
         };
         let states = sys.layout.vehicle_states_mut(&mut y.extra);
-        match first {
+        let buf;
+        let ask = match first {
             Some(super::closed_loop::Command {
-                speeds: Some((buf, n)),
+                speeds: Some((b, n)),
                 ..
             }) => {
-                sys.vehicle
-                    .initial_states_at_rotor_speeds(&buf[..n], states);
+                buf = b;
+                dynamics::Command::RotorSpeeds(&buf[..n])
             }
-            c => {
-                let w = c.map_or_else(Wrench::zero, |c| Wrench {
-                    thrust: c.out.thrust,
-                    moment: c.out.moment,
-                });
-                sys.vehicle.initial_states(&w, states);
-            }
+            c => dynamics::Command::Wrench(c.map_or_else(Wrench::zero, |c| Wrench {
+                thrust: c.out.thrust,
+                moment: c.out.moment,
+            })),
+        };
+        if let Some(a) = sys.caps.actuators {
+            a.initial_states(ask, states);
         }
     }
     if let Some(k) = emit.sink.as_deref_mut() {
