@@ -46,7 +46,11 @@ pub fn lie_table(rows: &[(String, f64)], native: bool) -> (String, usize) {
             }
             _ => "–".to_string(),
         };
-        md += &format!("| {op} | {pair} | {} | {} | {ratio} |\n", fmt(*g), fmt(*h));
+        md += &format!(
+            "| {op} | `{pair}` | {} | {} | {ratio} |\n",
+            fmt(*g),
+            fmt(*h)
+        );
     }
     let with = table.values().filter(|(g, h)| g.is_some() && h.is_some());
     md += &format!(
