@@ -13,9 +13,8 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    // Before any of this build's instructions can fault: a binary built with
-    // the machine's instruction set and copied to an older CPU stops here
-    // with the features it lacks named.
+    // First of all: a binary built for a newer CPU than this one stops
+    // here, naming the features it lacks, instead of faulting later.
     if let Err(e) = lie::cpu::check() {
         eprintln!("error: {e}");
         return ExitCode::from(2);

@@ -285,6 +285,45 @@ fn summary_rows(root: &Path) -> Result<Vec<Row>, String> {
     Ok(rows)
 }
 
+/// The criterion medians beside their hand-written baselines, as CSV and
+/// as a Markdown table (whole runs in ms).
+fn summary_tables(rows: &[Row]) -> (String, String) {
+    let mut csv = String::from("name,backend,scalar,median_ns,baseline_ns,ratio\n");
+    let mut table = String::from(
+        "| what | backend | scalar | median (ns) | hand-written (ns) | ratio |\n|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let ratio = r.baseline_ns.map(|b| r.median_ns / b);
+        csv += &format!(
+            "{},{},{},{:.3},{},{}\n",
+            r.name,
+            r.backend,
+            r.scalar,
+            r.median_ns,
+            r.baseline_ns.map_or(String::new(), |b| format!("{b:.3}")),
+            ratio.map_or(String::new(), |x| format!("{x:.4}"))
+        );
+        // Whole runs read better in ms.
+        let time = |ns: f64| {
+            if ns >= 1e5 {
+                format!("{:.3} ms", ns * 1e-6)
+            } else {
+                format!("{ns:.1}")
+            }
+        };
+        table += &format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            r.name,
+            r.backend,
+            r.scalar,
+            time(r.median_ns),
+            r.baseline_ns.map_or("–".into(), time),
+            ratio.map_or("–".into(), |x| format!("{x:.2}"))
+        );
+    }
+    (csv, table)
+}
+
 /// `cargo xtask bench`.
 pub fn bench(a: BenchArgs) -> Result<(), String> {
     let root = workspace_root();
@@ -318,39 +357,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
             crit.display()
         ));
     }
-    let mut csv = String::from("name,backend,scalar,median_ns,baseline_ns,ratio\n");
-    let mut table = String::from(
-        "| what | backend | scalar | median (ns) | hand-written (ns) | ratio |\n|---|---|---|---|---|---|\n",
-    );
-    for r in &rows {
-        let ratio = r.baseline_ns.map(|b| r.median_ns / b);
-        csv += &format!(
-            "{},{},{},{:.3},{},{}\n",
-            r.name,
-            r.backend,
-            r.scalar,
-            r.median_ns,
-            r.baseline_ns.map_or(String::new(), |b| format!("{b:.3}")),
-            ratio.map_or(String::new(), |x| format!("{x:.4}"))
-        );
-        // Whole runs read better in ms.
-        let time = |ns: f64| {
-            if ns >= 1e5 {
-                format!("{:.3} ms", ns * 1e-6)
-            } else {
-                format!("{ns:.1}")
-            }
-        };
-        table += &format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
-            r.name,
-            r.backend,
-            r.scalar,
-            time(r.median_ns),
-            r.baseline_ns.map_or("–".into(), time),
-            ratio.map_or("–".into(), |x| format!("{x:.2}"))
-        );
-    }
+    let (csv, table) = summary_tables(&rows);
     print!("{table}");
     let [e64, e32] = scenarios::metrics::flip_rk4_errors().map_err(|e| e.to_string())?;
     let flip_error = format!(
