@@ -43,6 +43,15 @@ impl<'a, B: Backend> LoadInput<'a, B> {
             wind,
         }
     }
+    /// The commanded wrench, `None` for rotor speeds: what a vehicle that
+    /// takes wrenches only reads (`let w = input.wrench_command()?;`).
+    #[inline]
+    pub fn wrench_command(&self) -> Option<Wrench<B>> {
+        match self.command {
+            Command::Wrench(w) => Some(w),
+            _ => None,
+        }
+    }
     /// A commanded wrench in still air with no internal states.
     pub fn wrench(w: Wrench<B>) -> Self {
         Self::new(Command::Wrench(w), &[], ops::zero::<B>())
@@ -214,9 +223,7 @@ pub trait Vehicle<B: Backend>: Send + Sync {
         input: LoadInput<'_, B>,
         _rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         let delivered = match self.capabilities().actuators {
             Some(a) => a.delivered(&w, input.states),
             None => w,

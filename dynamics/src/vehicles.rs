@@ -279,9 +279,7 @@ impl<B: Backend> Vehicle<B> for Quadrotor<B> {
         input: LoadInput<'_, B>,
         _rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let crate::Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         Some(body_loads(self, state, self.saturate(w), self.disturbance))
     }
     fn capabilities(&self) -> Capabilities<'_, B> {
@@ -409,9 +407,7 @@ impl<B: Backend> Vehicle<B> for AttitudeStand<B> {
         input: LoadInput<'_, B>,
         _rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let crate::Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         Some(body_loads(
             self,
             state,
@@ -622,9 +618,7 @@ impl<B: Backend> Vehicle<B> for Hexarotor<B> {
         input: LoadInput<'_, B>,
         _rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let crate::Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         Some(body_loads(
             self,
             state,

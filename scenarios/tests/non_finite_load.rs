@@ -4,8 +4,8 @@
 //! because of the load.
 
 use dynamics::{
-    Command, Disturbance, DynamicsError, LoadInput, Loads, Quadrotor, RigidBodyState, Vehicle,
-    Wrench, body_loads,
+    Disturbance, DynamicsError, LoadInput, Loads, Quadrotor, RigidBodyState, Vehicle, Wrench,
+    body_loads,
 };
 use integrators::StepError;
 use lie::{M3, NalgebraF64, S};
@@ -49,9 +49,7 @@ impl Vehicle<B> for GoesBad {
         input: LoadInput<'_, B>,
         _rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         let bad = (t >= self.t_bad).then(|| Disturbance {
             force: B::vec3(0.0, f64::NAN, 0.0),
             moment: B::vec3(0.0, 0.0, 0.0),

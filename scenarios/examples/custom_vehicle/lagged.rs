@@ -90,9 +90,7 @@ impl<B: Backend> Vehicle<B> for LaggedQuadrotor<B> {
         input: LoadInput<'_, B>,
         rates: &mut [S<B>],
     ) -> Option<Loads<B>> {
-        let Command::Wrench(w) = input.command else {
-            return None;
-        };
+        let w = input.wrench_command()?;
         let (u, states) = (self.demanded(&w), input.states);
         for k in 0..rates.len().min(states.len()) {
             rates[k] = (u[k] - states[k]) / self.tau;
