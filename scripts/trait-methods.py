@@ -13,12 +13,11 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 # (file, trait, at most this many required, at most this many in all, at
-# most this many load methods). Mode's limits are its count today, a
-# ratchet until its redesign brings it to six.
+# most this many load methods).
 TRAITS = [
     ("dynamics/src/vehicle.rs", "Vehicle", 8, 9, 1),
     ("dynamics/src/vehicle.rs", "Actuators", 1, 3, 0),
-    ("controllers/src/mode.rs", "Mode", 6, 11, None),
+    ("controllers/src/mode.rs", "Mode", 2, 6, None),
 ]
 
 
@@ -34,9 +33,17 @@ def methods(path, trait):
         depth -= c == "}"
         body.append(c if depth == 1 or (depth == 2 and c == "{") else " ")
         i += 1
+    body = "".join(body)
     out = []
-    for f in re.finditer(r"\bfn\s+(\w+)[^;{]*([;{])", "".join(body)):
-        out.append((f.group(1), f.group(2) == ";"))
+    for f in re.finditer(r"\bfn\s+(\w+)", body):
+        # The signature ends at the first `;` or `{` outside brackets
+        # (`[f64; 3]` holds a `;`).
+        depth, j = 0, f.end()
+        while depth or body[j] not in ";{":
+            depth += body[j] in "([<"
+            depth -= body[j] in ")]>" and not body[j - 1] == "-"
+            j += 1
+        out.append((f.group(1), body[j] == ";"))
     return out
 
 

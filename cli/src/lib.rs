@@ -94,8 +94,9 @@ pub enum Error {
     Run {
         /// The scene's name.
         scene: String,
-        /// The engine's error.
-        source: scenarios::SimError,
+        /// The engine's error (boxed: it is large, and this is the
+        /// exceptional path).
+        source: Box<scenarios::SimError>,
         /// Until when the outputs hold the run, when they streamed.
         held_until: Option<f64>,
     },
@@ -166,7 +167,7 @@ impl std::error::Error for Error {
             Error::Scene(e) => Some(e),
             Error::Output(e) => Some(e),
             Error::Path(e) => Some(e),
-            Error::Run { source, .. } => Some(source),
+            Error::Run { source, .. } => Some(source.as_ref()),
             Error::Figure(e) => Some(e),
             Error::Io { source, .. } => Some(source),
             Error::Usage(_) | Error::Health { .. } | Error::Failed(_) => None,

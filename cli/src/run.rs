@@ -334,7 +334,7 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
     warnings.clear();
     let out = result.map_err(|source| Error::Run {
         scene: scene.name.clone(),
-        source,
+        source: Box::new(source),
         held_until: last_t.filter(|_| streaming),
     })?;
     if let Some(s) = &stopped {

@@ -38,7 +38,7 @@
 //! // The paper's quadrotor: m = 0.755 kg, J = diag(0.43, 0.43, 1.02)·10⁻² kg m², g = 9.81 m/s².
 //! let params = RigidBodyParams::<B>::diagonal(0.755, [0.43e-2, 0.43e-2, 1.02e-2], 9.81);
 //! let target = HoldPosition(PositionReference::hold(B::vec3(0.0, 0.0, -1.0), B::vec3(1.0, 0.0, 0.0)));
-//! let mut law = PositionMode::new(
+//! let law = PositionMode::new(
 //!     params,
 //!     PositionGains::paper(),
 //!     AttitudeGains::paper(),
@@ -51,7 +51,7 @@
 //! let mut rates = [0.0; 6];
 //! let out = law.command(0.0, &at_rest, &integrals, &mut rates)?;
 //! assert!(out.thrust > 0.755 * 9.81, "climbs: thrust {}", out.thrust);
-//! assert_eq!(law.integral_count(), 6);
+//! assert_eq!(law.integrals().count, 6);
 //! assert!(rates.iter().any(|r| *r != 0.0), "e_i grows while x is off target");
 //! # Ok::<(), controllers::ControlError>(())
 //! ```
@@ -72,8 +72,9 @@ pub use attitude_pid::{
 };
 pub use gain_check::{GainBounds, GainCondition, GainReport, check_gains};
 pub use mode::{
-    AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition, Mode,
-    ModeOutput, PositionMode, PositionSource,
+    AttitudeMode, AttitudeSource, AttitudeThrust, Breakpoint, HoldAttitude, HoldPosition,
+    IntegralLayout, MAX_ROTORS, Mode, ModeOutput, PositionMode, PositionSource, RotorSpeeds,
+    load_token,
 };
 pub use mode_scheduler::{NoCondition, Phase, Scheduler, Segment, Switch, Until};
 pub use position_pid::{
@@ -120,6 +121,7 @@ impl<B: Backend> RigidBodyParams<B> {
 /// Errors of the control laws: bad input is reported, never turned into a
 /// NaN moment.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ControlError {
     /// An input field contained NaN or ±∞.
     NonFinite {
@@ -134,11 +136,21 @@ pub enum ControlError {
     },
     /// A [`Scheduler`] was given an empty plan.
     EmptyPlan,
-    /// A mode commanded rotor speeds ([`Mode::rotor_speeds`]) to a vehicle
+    /// A mode commanded rotor speeds ([`ModeOutput::rotor_speeds`]) to a vehicle
     /// that cannot take them (its actuators are not rotors with speeds).
     RotorSpeedsUnsupported {
         /// The mode's name.
         mode: &'static str,
+    },
+    /// A mode commanded a number of rotor speeds other than the vehicle's
+    /// rotor count.
+    RotorSpeedCount {
+        /// The mode's name.
+        mode: &'static str,
+        /// How many speeds it gave.
+        given: usize,
+        /// How many rotors the vehicle has.
+        rotors: usize,
     },
 }
 
@@ -156,6 +168,14 @@ impl core::fmt::Display for ControlError {
                 f,
                 "mode `{mode}` commands rotor speeds, which this vehicle cannot take \
                  (the `multirotor` kind can)"
+            ),
+            ControlError::RotorSpeedCount {
+                mode,
+                given,
+                rotors,
+            } => write!(
+                f,
+                "mode `{mode}` commands {given} rotor speeds to a vehicle with {rotors} rotors"
             ),
         }
     }

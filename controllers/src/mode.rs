@@ -9,7 +9,7 @@
 //! derivatives into another, so continuous control (integrate the rates with
 //! the vehicle) and sampled control (multiply by the period) both work.
 //! Every mode of a plan sees the *same* register of integral states, slots
-//! `0..integral_count()`; what one mode leaves there is what the next one
+//! `0..integrals().count`; what one mode leaves there is what the next one
 //! finds. What carries across a switch is therefore the modes' decision,
 //! made in [`Mode::enter`]: the paper's two modes share the layout
 //! `[e_I (3), e_i (3)]`, so the attitude integral `e_I` carries across every
@@ -144,6 +144,34 @@ impl<B: Backend, R: Rotation<B>> AttitudeSource<B, R> for HoldAttitude<B, R> {
     }
 }
 
+/// The most rotor speeds a mode may command (a vehicle with more rotors
+/// takes a wrench).
+pub const MAX_ROTORS: usize = 16;
+
+/// Rotor speeds a mode commands instead of its wrench, rad/s, one per
+/// rotor in the vehicle's order.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RotorSpeeds<B: Backend> {
+    speeds: [S<B>; MAX_ROTORS],
+    count: usize,
+}
+
+impl<B: Backend> RotorSpeeds<B> {
+    /// The speeds in `speeds`; `None` for more than [`MAX_ROTORS`].
+    pub fn new(speeds: &[S<B>]) -> Option<Self> {
+        let mut buf = [S::<B>::lit(0.0); MAX_ROTORS];
+        buf.get_mut(..speeds.len())?.copy_from_slice(speeds);
+        Some(Self {
+            speeds: buf,
+            count: speeds.len(),
+        })
+    }
+    /// The speeds, one per rotor.
+    pub fn as_slice(&self) -> &[S<B>] {
+        &self.speeds[..self.count]
+    }
+}
+
 /// What a mode commands and what the logs show of it.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct ModeOutput<B: Backend, R: Rotation<B> = So3Mat<B>> {
@@ -159,6 +187,13 @@ pub struct ModeOutput<B: Backend, R: Rotation<B> = So3Mat<B>> {
     pub desired_omega: V3<B>,
     /// `Ψ(R, desired)`: what `until_psi` switches compare.
     pub psi: S<B>,
+    /// Rotor speeds to command *instead of* the wrench (`None`: the
+    /// wrench is the command): for a law of another family that outputs
+    /// rotor speeds (RotorPy's `SE3Control`), or a recorded sequence
+    /// replayed open loop. The vehicle must take rotor-speed commands, else
+    /// the run stops with [`ControlError::RotorSpeedsUnsupported`]; the
+    /// thrust, moment and desired attitude are still what the logs show.
+    pub rotor_speeds: Option<RotorSpeeds<B>>,
 }
 
 /// A breakpoint of a law's vector field: the law is discontinuous where
@@ -173,18 +208,41 @@ pub struct Breakpoint<B: Backend> {
     pub level: S<B>,
 }
 
+/// The integral register a mode reads: how many slots, and the levels on
+/// them where the law switches branch.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct IntegralLayout<'a, B: Backend> {
+    /// Slots `0..count` of the plan's shared register.
+    pub count: usize,
+    /// Where the law is discontinuous (none for most laws).
+    pub breakpoints: &'a [Breakpoint<B>],
+}
+
+impl<B: Backend> IntegralLayout<'_, B> {
+    /// `count` slots and no breakpoints.
+    pub const fn slots(count: usize) -> Self {
+        Self {
+            count,
+            breakpoints: &[],
+        }
+    }
+}
+
 /// A flight mode: a control law with its references.
 ///
 /// Object safe: a plan is a list of `Box<dyn Mode<B>>`. Only
-/// [`Mode::name`] and [`Mode::command`] are required.
+/// [`Mode::name`] and [`Mode::command`] are required; rotor-speed
+/// commanding is a variant of the output ([`ModeOutput::rotor_speeds`]),
+/// not a method.
 ///
-/// A mode's answer is a function of the time, the state, the integrals
-/// and its own configuration (its gains, references and forced branches)
-/// alone: a simulation asks it at every stage of a step, again for each
-/// sample and for the run's figures, a number of times that depends on
-/// what is recorded, and may reuse an answer at the same point instead of
-/// asking twice. A mode that kept state between calls would fly
-/// differently with and without recording.
+/// [`Mode::command`] takes `&self`: its answer is a function of the time,
+/// the state, the integrals and the mode's configuration alone. A
+/// simulation asks it at every stage of a step, again for each sample and
+/// for the run's figures, a number of times that depends on what is
+/// recorded, and may reuse an answer at the same point instead of asking
+/// twice. What a mode may change is its configuration, at the two moments
+/// the loop names: [`Mode::enter`] (where the mode starts from) and
+/// [`Mode::force_branch`] (which side of a breakpoint it is on).
 ///
 /// # Example
 /// A mode of one's own: hold the current attitude with a thrust that
@@ -202,7 +260,7 @@ pub struct Breakpoint<B: Backend> {
 ///         "float"
 ///     }
 ///     fn command(
-///         &mut self,
+///         &self,
 ///         _t: S<B>,
 ///         state: &VehicleState<B, So3Mat<B>>,
 ///         _integrals: &[S<B>],
@@ -214,25 +272,27 @@ pub struct Breakpoint<B: Backend> {
 ///             desired: state.r,
 ///             desired_omega: B::vec3(0.0, 0.0, 0.0),
 ///             psi: 0.0,
+///             rotor_speeds: None,
 ///         })
 ///     }
 /// }
 ///
-/// let mut m: Box<dyn Mode<B>> = Box::new(Float { weight: 0.755 * 9.81 });
+/// let m: Box<dyn Mode<B>> = Box::new(Float { weight: 0.755 * 9.81 });
 /// let zero = B::vec3(0.0, 0.0, 0.0);
 /// let s = VehicleState { x: zero, v: zero, r: So3Mat::<B>::identity(), omega: zero };
 /// let out = m.command(0.0, &s, &[], &mut [])?;
 /// assert_eq!(out.thrust, 0.755 * 9.81);
-/// assert_eq!(m.integral_count(), 0);
+/// assert_eq!(m.integrals().count, 0);
 /// # Ok::<(), ControlError>(())
 /// ```
 pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// Short name for logs (`"attitude"`, `"position"`, `"landing"`).
     fn name(&self) -> &'static str;
-    /// How many integral states the law reads and integrates: slots
-    /// `0..integral_count()` of the plan's shared register.
-    fn integral_count(&self) -> usize {
-        0
+    /// The integral states the law reads and integrates (slots
+    /// `0..count` of the plan's shared register) and its breakpoints on
+    /// them; none by default.
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        IntegralLayout::slots(0)
     }
     /// Called when a scheduler switches *into* this mode at time `t` in
     /// `state` (not for the plan's first mode, whose integrals are the
@@ -240,92 +300,47 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// over, note where the mode starts from. The default keeps everything.
     fn enter(&mut self, _t: S<B>, _state: &VehicleState<B, R>, _integrals: &mut [S<B>]) {}
     /// The command at time `t` in `state`. `integrals` holds the law's
-    /// `integral_count()` states; write their time derivatives into `rates`
-    /// (same length, zeroed by the caller; an idle state keeps rate zero).
+    /// `integrals().count` states; write their time derivatives into
+    /// `rates` (same length, zeroed by the caller; an idle state keeps rate
+    /// zero).
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, R>,
         integrals: &[S<B>],
         rates: &mut [S<B>],
     ) -> Result<ModeOutput<B, R>, ControlError>;
-    /// The thrust and moment of [`Mode::command`] alone, with the same
-    /// rates written: what an integrator's load needs at every stage (the
-    /// desired attitude and `Ψ` are for logs and switch conditions). The
-    /// default calls `command` statically from inside each mode's own copy
-    /// of this method, so where a mode's `command` is inlined (the built-in
-    /// modes mark it so) the compiler drops what a load does not read even
-    /// when the simulation holds the mode as `dyn Mode`. An
-    /// override must give `command`'s thrust and moment bit for bit.
-    #[inline]
-    fn wrench(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, R>,
-        integrals: &[S<B>],
-        rates: &mut [S<B>],
-    ) -> Result<(S<B>, V3<B>), ControlError> {
-        self.command(t, state, integrals, rates)
-            .map(|out| (out.thrust, out.moment))
-    }
-    /// The law's breakpoints (none by default).
-    fn breakpoints(&self) -> &[Breakpoint<B>] {
-        &[]
-    }
-    /// Forces the branch taken at breakpoint `index` ([`SatBranch::Auto`]
-    /// lets the law decide from the state again).
+    /// Forces the branch taken at breakpoint `index` of
+    /// [`IntegralLayout::breakpoints`] ([`SatBranch::Auto`] lets the law
+    /// decide from the state again).
     fn force_branch(&mut self, _index: usize, _branch: SatBranch) {}
     /// The desired position at time `t` in f64, for logs (`x_d`, `‖e_x‖`),
     /// if the law has one.
     fn desired_position(&self, _t: f64) -> Option<[f64; 3]> {
         None
     }
-    /// Whether this mode commands rotor speeds ([`Mode::rotor_speeds`]);
-    /// asked once when the mode becomes active, so that a mode that
-    /// commands a wrench (the default, `false`) costs nothing per
-    /// evaluation.
-    fn commands_rotor_speeds(&self) -> bool {
-        false
-    }
-    /// Rotor speeds (rad/s) to command *instead of* the wrench of
-    /// [`Mode::command`], written into `speeds` (one per rotor), for a mode
-    /// whose [`Mode::commands_rotor_speeds`] is `true`: for a law
-    /// of another family that outputs rotor speeds (RotorPy's
-    /// `SE3Control`), or a recorded sequence replayed open loop. Called
-    /// after `command` at the same `(t, state)` by the default
-    /// [`Mode::command_with_speeds`]; returns whether it wrote them. The
-    /// default, `false`, commands the wrench. The vehicle must take
-    /// rotor-speed commands, else the run stops with
-    /// [`ControlError::RotorSpeedsUnsupported`]; `command`'s output is
-    /// still what the logs show as the desired attitude and `Ψ`.
-    fn rotor_speeds(
-        &mut self,
-        _t: S<B>,
-        _state: &VehicleState<B, R>,
-        _speeds: &mut [S<B>],
-    ) -> bool {
-        false
-    }
-    /// The command and the rotor speeds of a mode whose
-    /// [`Mode::commands_rotor_speeds`] is `true`, in one call: what a
-    /// simulation calls once per control instant (or per load evaluation
-    /// in continuous control) for such a mode. Returns the command (the
-    /// logged wrench, desired attitude and `Ψ`) and whether `speeds` was
-    /// written. The default calls [`Mode::command`] then
-    /// [`Mode::rotor_speeds`]; a law that computes both at once (the
-    /// wrench on the way to the speeds) overrides this one instead, so it
-    /// neither computes twice nor caches between the two calls, and its
-    /// `command` may call this with a scratch buffer.
-    fn command_with_speeds(
-        &mut self,
+    /// What a simulation's load evaluation reads of [`Mode::command`]: the
+    /// thrust and moment, and the rotor speeds written into `speeds` when
+    /// there are any. Not a method to implement: its parameter type cannot
+    /// be named outside this crate, so every mode has this default, a copy
+    /// of `command` per mode in which the compiler drops what a load does
+    /// not read (the desired attitude and `Ψ`) even through `dyn Mode`.
+    #[doc(hidden)]
+    #[inline]
+    fn load_command(
+        &self,
+        _sealed: sealed::Token,
         t: S<B>,
         state: &VehicleState<B, R>,
         integrals: &[S<B>],
         rates: &mut [S<B>],
-        speeds: &mut [S<B>],
-    ) -> Result<(ModeOutput<B, R>, bool), ControlError> {
+        speeds: &mut Option<RotorSpeeds<B>>,
+    ) -> Result<(S<B>, V3<B>), ControlError> {
         let out = self.command(t, state, integrals, rates)?;
-        Ok((out, self.rotor_speeds(t, state, speeds)))
+        if out.rotor_speeds.is_some() {
+            *speeds = out.rotor_speeds;
+        }
+        Ok((out.thrust, out.moment))
     }
 }
 
@@ -333,14 +348,15 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     fn name(&self) -> &'static str {
         (**self).name()
     }
-    fn integral_count(&self) -> usize {
-        (**self).integral_count()
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        (**self).integrals()
     }
     fn enter(&mut self, t: S<B>, state: &VehicleState<B, R>, integrals: &mut [S<B>]) {
         (**self).enter(t, state, integrals)
     }
+    #[inline]
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, R>,
         integrals: &[S<B>],
@@ -348,31 +364,62 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     ) -> Result<ModeOutput<B, R>, ControlError> {
         (**self).command(t, state, integrals, rates)
     }
-    fn breakpoints(&self) -> &[Breakpoint<B>] {
-        (**self).breakpoints()
-    }
     fn force_branch(&mut self, index: usize, branch: SatBranch) {
         (**self).force_branch(index, branch)
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         (**self).desired_position(t)
     }
-    fn commands_rotor_speeds(&self) -> bool {
-        (**self).commands_rotor_speeds()
-    }
-    fn rotor_speeds(&mut self, t: S<B>, state: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
-        (**self).rotor_speeds(t, state, speeds)
-    }
-    fn command_with_speeds(
-        &mut self,
+    #[inline]
+    fn load_command(
+        &self,
+        sealed: sealed::Token,
         t: S<B>,
         state: &VehicleState<B, R>,
         integrals: &[S<B>],
         rates: &mut [S<B>],
-        speeds: &mut [S<B>],
-    ) -> Result<(ModeOutput<B, R>, bool), ControlError> {
-        (**self).command_with_speeds(t, state, integrals, rates, speeds)
+        speeds: &mut Option<RotorSpeeds<B>>,
+    ) -> Result<(S<B>, V3<B>), ControlError> {
+        (**self).load_command(sealed, t, state, integrals, rates, speeds)
     }
+}
+
+/// The key to [`Mode::load_command`]: public so that a simulation can call
+/// it, in a private module so that no mode can override it.
+mod sealed {
+    /// Only this crate's [`token`](super::load_token) makes one.
+    #[derive(Copy, Clone, Debug)]
+    pub struct Token(pub(super) ());
+}
+
+/// The argument [`Mode::load_command`] is called with.
+///
+/// No mode outside this crate can override `load_command`, since its token's
+/// type cannot be named; this fails to compile for that reason alone:
+///
+/// ```compile_fail
+/// use controllers::{ControlError, Mode, ModeOutput, RotorSpeeds, VehicleState};
+/// use lie::{Backend, GlamF64 as B, S, So3Mat, V3};
+/// struct Sly;
+/// impl Mode<B> for Sly {
+///     fn name(&self) -> &'static str { "sly" }
+///     fn command(&self, _: S<B>, s: &VehicleState<B, So3Mat<B>>, _: &[S<B>], _: &mut [S<B>])
+///         -> Result<ModeOutput<B>, ControlError> {
+///         let z = B::vec3(0.0, 0.0, 0.0);
+///         Ok(ModeOutput { thrust: 1.0, moment: z, desired: s.r, desired_omega: z, psi: 0.0,
+///             rotor_speeds: None })
+///     }
+///     fn load_command(&self, _: controllers::mode::sealed::Token, _: S<B>,
+///         _: &VehicleState<B, So3Mat<B>>, _: &[S<B>], _: &mut [S<B>],
+///         _: &mut Option<RotorSpeeds<B>>) -> Result<(S<B>, V3<B>), ControlError> {
+///         Ok((2.0, B::vec3(0.0, 0.0, 0.0)))
+///     }
+/// }
+/// ```
+#[doc(hidden)]
+#[inline(always)]
+pub fn load_token() -> sealed::Token {
+    sealed::Token(())
 }
 
 /// The first `K` entries of a register slice (a mode's documented layout;
@@ -381,14 +428,14 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
 fn first<B: Backend, const K: usize>(s: &[S<B>]) -> &[S<B>; K] {
     s[..K]
         .try_into()
-        .expect("integral register shorter than the mode's integral_count")
+        .expect("integral register shorter than the mode's integral count")
 }
 
 #[inline(always)]
 fn first_mut<B: Backend, const K: usize>(s: &mut [S<B>]) -> &mut [S<B>; K] {
     (&mut s[..K])
         .try_into()
-        .expect("integral register shorter than the mode's integral_count")
+        .expect("integral register shorter than the mode's integral count")
 }
 
 /// The thrust of an [`AttitudeMode`].
@@ -437,13 +484,12 @@ impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> Mode<B> for Attitud
     fn name(&self) -> &'static str {
         "attitude"
     }
-    fn integral_count(&self) -> usize {
-        3
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        IntegralLayout::slots(3)
     }
-    // Inlined into `Mode::wrench`'s copy for this mode (see there).
     #[inline(always)]
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         integrals: &[S<B>],
@@ -466,6 +512,7 @@ impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> Mode<B> for Attitud
             desired: r.rd,
             desired_omega: r.omega_d,
             psi: out.psi,
+            rotor_speeds: None,
         })
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
@@ -529,19 +576,24 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
     fn name(&self) -> &'static str {
         "position"
     }
-    fn integral_count(&self) -> usize {
-        6
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        IntegralLayout {
+            count: 6,
+            breakpoints: if self.has_breakpoints {
+                &self.breakpoints
+            } else {
+                &[]
+            },
+        }
     }
     fn enter(&mut self, _t: S<B>, _state: &VehicleState<B, So3Mat<B>>, integrals: &mut [S<B>]) {
         if self.reset_on_entry {
             integrals[3..6].fill(S::<B>::lit(0.0));
         }
     }
-    // Inlined into `Mode::wrench`'s copy for this mode, where the stores of
-    // the desired attitude and Ψ are dropped (see `Mode::wrench`).
     #[inline(always)]
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         integrals: &[S<B>],
@@ -581,14 +633,8 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
             desired: out.rc,
             desired_omega: out.omega_c,
             psi: out.psi,
+            rotor_speeds: None,
         })
-    }
-    fn breakpoints(&self) -> &[Breakpoint<B>] {
-        if self.has_breakpoints {
-            &self.breakpoints
-        } else {
-            &[]
-        }
     }
     fn force_branch(&mut self, index: usize, branch: SatBranch) {
         if let Some(b) = self.pos_gains.sat_branch.get_mut(index) {

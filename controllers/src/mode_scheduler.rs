@@ -114,11 +114,11 @@ impl<'p, 'm, B: Backend> Scheduler<'p, 'm, B> {
     }
 
     /// The integral slots the plan uses (the largest
-    /// [`Mode::integral_count`]): the register the caller holds.
+    /// [`Mode::integrals`]): the register the caller holds.
     pub fn integral_count(&self) -> usize {
         self.plan
             .iter()
-            .map(|p| p.mode.integral_count())
+            .map(|p| p.mode.integrals().count)
             .max()
             .unwrap_or(0)
     }

@@ -27,6 +27,7 @@ fn output(thrust: f64) -> ModeOutput<B> {
         desired: R::identity(),
         desired_omega: V::zeros(),
         psi: 0.0,
+        rotor_speeds: None,
     }
 }
 
@@ -37,7 +38,7 @@ impl Mode<B> for Bare {
         "bare"
     }
     fn command(
-        &mut self,
+        &self,
         _t: S<B>,
         _s: &VehicleState<B, R>,
         _i: &[S<B>],
@@ -58,25 +59,29 @@ impl Mode<B> for Full {
     fn name(&self) -> &'static str {
         "full"
     }
-    fn integral_count(&self) -> usize {
-        2
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        IntegralLayout {
+            count: 2,
+            breakpoints: &self.bps,
+        }
     }
     fn enter(&mut self, _t: S<B>, _s: &VehicleState<B, R>, integrals: &mut [S<B>]) {
         self.entered += 1;
         integrals[0] = 7.0;
     }
     fn command(
-        &mut self,
+        &self,
         _t: S<B>,
         _s: &VehicleState<B, R>,
         integrals: &[S<B>],
         rates: &mut [S<B>],
     ) -> Result<ModeOutput<B>, ControlError> {
         rates[1] = -integrals[0];
-        Ok(output(2.0))
-    }
-    fn breakpoints(&self) -> &[Breakpoint<B>] {
-        &self.bps
+        let speeds = [100.0 * integrals[0]; 4];
+        Ok(ModeOutput {
+            rotor_speeds: RotorSpeeds::new(&speeds),
+            ..output(2.0)
+        })
     }
     fn force_branch(&mut self, index: usize, branch: SatBranch) {
         self.forced.push((index, branch));
@@ -84,25 +89,14 @@ impl Mode<B> for Full {
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         Some([t, 2.0 * t, 3.0])
     }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn rotor_speeds(&mut self, t: S<B>, _s: &VehicleState<B, R>, speeds: &mut [S<B>]) -> bool {
-        speeds.iter_mut().for_each(|w| *w = 100.0 * t);
-        true
-    }
 }
 
 #[test]
 fn the_defaults_are_nothing_and_no() {
     let mut m = Bare;
-    let mut speeds = [5.0; 4];
-    assert_eq!(m.integral_count(), 0);
-    assert!(m.breakpoints().is_empty());
+    assert_eq!(m.integrals(), IntegralLayout::slots(0));
+    assert!(m.integrals().breakpoints.is_empty());
     assert_eq!(m.desired_position(1.0), None);
-    assert!(!m.commands_rotor_speeds());
-    assert!(!m.rotor_speeds(0.0, &at_rest(), &mut speeds));
-    assert_eq!(speeds, [5.0; 4], "the default writes no speeds");
     let mut reg = [1.0, 2.0];
     m.enter(0.0, &at_rest(), &mut reg);
     assert_eq!(reg, [1.0, 2.0], "the default entry keeps the register");
@@ -121,21 +115,19 @@ fn a_borrowed_mode_answers_as_the_mode() {
         let mut m: &mut Full = &mut full;
         let m: &mut dyn Mode<B> = &mut m;
         assert_eq!(m.name(), "full");
-        assert_eq!(m.integral_count(), 2);
+        assert_eq!(m.integrals().count, 2);
         let mut reg = [0.0, 0.0];
         m.enter(0.0, &at_rest(), &mut reg);
         assert_eq!(reg[0], 7.0);
         let mut rates = [0.0, 0.0];
         let out = m.command(0.0, &at_rest(), &reg, &mut rates).unwrap();
         assert_eq!((out.thrust, rates), (2.0, [0.0, -7.0]));
-        assert_eq!(m.breakpoints().len(), 1);
-        assert_eq!(m.breakpoints()[0].slot, 4);
+        let speeds = out.rotor_speeds.expect("Full commands rotor speeds");
+        assert_eq!(speeds.as_slice(), &[700.0; 4]);
+        assert_eq!(m.integrals().breakpoints.len(), 1);
+        assert_eq!(m.integrals().breakpoints[0].slot, 4);
         m.force_branch(1, SatBranch::Outside);
         assert_eq!(m.desired_position(2.0), Some([2.0, 4.0, 3.0]));
-        assert!(m.commands_rotor_speeds());
-        let mut speeds = [0.0; 4];
-        assert!(m.rotor_speeds(0.5, &at_rest(), &mut speeds));
-        assert_eq!(speeds, [50.0; 4]);
     }
     assert_eq!(full.entered, 1);
     assert_eq!(full.forced, vec![(1, SatBranch::Outside)]);
@@ -171,11 +163,11 @@ fn the_papers_modes_declare_their_register_and_obey_forced_branches() {
         },
         AttitudeThrust::Constant(7.4),
     );
-    assert_eq!(Mode::<B>::integral_count(&att), 3);
+    assert_eq!(Mode::<B>::integrals(&att), IntegralLayout::slots(3));
     let mut pos = position_mode();
-    assert_eq!(Mode::<B>::integral_count(&pos), 6);
-    let slots: Vec<(usize, f64)> = pos
-        .breakpoints()
+    assert_eq!(Mode::<B>::integrals(&pos).count, 6);
+    let slots: Vec<(usize, f64)> = Mode::<B>::integrals(&pos)
+        .breakpoints
         .iter()
         .map(|b| (b.slot, b.level))
         .collect();
@@ -195,54 +187,16 @@ fn the_papers_modes_declare_their_register_and_obey_forced_branches() {
     assert_eq!(auto.desired_omega, again.desired_omega);
 }
 
-/// A load asks for the wrench alone (`Mode::wrench`), samples for the
-/// whole command: through `dyn Mode`, as a simulation holds its modes, the
-/// two give the same thrust, moment and integral rates bit for bit, for
-/// both of the paper's modes in tilted, spinning, moving states with
-/// nonzero integrals (the simulation's bit identity with the runs before
-/// `wrench` existed rests on this). And the default reaches a user's mode.
+/// Rotor speeds keep their order and count up to `MAX_ROTORS`; one more
+/// is refused rather than cut (a vehicle with more rotors takes a wrench).
 #[test]
-fn the_wrench_is_the_commands_bit_for_bit() {
-    let mut att = AttitudeMode::<B, _, HoldPosition<B>>::new(
-        RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
-        AttitudeGains::paper(),
-        |t: f64| AttitudeReference {
-            rd: R::exp(V::new(0.1 * t, -0.2, 0.3)),
-            omega_d: V::new(0.1, 0.0, -0.2),
-            omega_d_dot: V::new(0.0, 0.05, 0.0),
-        },
-        AttitudeThrust::Constant(7.4),
-    );
-    let mut pos = position_mode();
-    let mut full = Full::default();
-    let modes: [&mut dyn Mode<B>; 3] = [&mut att, &mut pos, &mut full];
-    for m in modes {
-        for k in 0..20 {
-            let f = k as f64;
-            let mut s = at_rest();
-            s.r = R::exp(V::new(0.3 * f.sin(), 2.9 * (0.7 * f).cos(), -0.4));
-            s.omega = V::new(1.5 - 0.2 * f, 0.4, -2.0 + 0.1 * f);
-            s.x = V::new(0.5, -0.3 * f, 0.2);
-            s.v = V::new(-0.1, 0.2, 0.05 * f);
-            let n = m.integral_count();
-            let reg: Vec<f64> = (0..n).map(|i| 0.3 * (f + i as f64).sin()).collect();
-            let (mut r_cmd, mut r_wr) = (vec![0.0; n], vec![0.0; n]);
-            let t = 0.1 * f;
-            let out = m.command(t, &s, &reg, &mut r_cmd).unwrap();
-            let (thrust, moment) = m.wrench(t, &s, &reg, &mut r_wr).unwrap();
-            let what = format!("{} at sample {k}", m.name());
-            assert_eq!(thrust.to_bits(), out.thrust.to_bits(), "{what}: thrust");
-            for i in 0..3 {
-                assert_eq!(
-                    moment[i].to_bits(),
-                    out.moment[i].to_bits(),
-                    "{what}: M[{i}]"
-                );
-            }
-            let bits = |r: &[f64]| r.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&r_wr), bits(&r_cmd), "{what}: rates");
-        }
+fn rotor_speeds_hold_up_to_max_rotors_in_order() {
+    let w: Vec<f64> = (0..=MAX_ROTORS).map(|k| 400.0 + k as f64).collect();
+    for n in [0, 1, 4, 6, MAX_ROTORS] {
+        let s = RotorSpeeds::<B>::new(&w[..n]).expect("within MAX_ROTORS");
+        assert_eq!(s.as_slice(), &w[..n]);
     }
+    assert_eq!(RotorSpeeds::<B>::new(&w), None, "{} speeds", w.len());
 }
 
 /// A held reference is lent (`PositionSource::constant`) and the position
@@ -267,7 +221,7 @@ fn a_held_reference_read_in_place_commands_what_a_computed_one_does() {
     assert_eq!(held.position(2.5), reference);
     let computed = move |_t: f64| reference;
     assert!(computed.constant().is_none());
-    let (mut a, mut b) = (paper_position_mode(held), paper_position_mode(computed));
+    let (a, b) = (paper_position_mode(held), paper_position_mode(computed));
     let s = VehicleState::<B, R> {
         x: V::new(0.1, 0.2, -1.0),
         v: V::new(0.5, -0.4, 0.2),

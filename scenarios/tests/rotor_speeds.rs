@@ -1,7 +1,7 @@
 //! Modes that command rotor speeds instead of a wrench
-//! (`Mode::rotor_speeds`, `Mode::command_with_speeds`): the same command
-//! through either path flies the same trajectory bit for bit, a mode that
-//! answers both in one call is asked once per control instant, a recorded
+//! (`ModeOutput::rotor_speeds`): the same command through either path
+//! flies the same trajectory bit for bit, such a mode is asked once per
+//! control instant, a recorded
 //! speed sequence replayed open loop reproduces the run it came from bit
 //! for bit, and a vehicle without rotor speeds refuses them with a typed
 //! error.
@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
-use controllers::{ControlError, Mode, ModeOutput, VehicleState};
+use controllers::{ControlError, IntegralLayout, Mode, ModeOutput, RotorSpeeds, VehicleState};
 use dynamics::{
     DrydenSpec, DrydenWind, Multirotor, MultirotorParams, Quadrotor, RigidBodyState, Wrench,
 };
@@ -29,116 +29,43 @@ type Log = Arc<Mutex<BTreeMap<u64, Vec<f64>>>>;
 /// Any mode, its wrench turned into rotor speeds by the vehicle's own
 /// mixer (what the `multirotor` vehicle does to a commanded wrench), so
 /// the speeds path must reproduce the wrench path exactly; the speeds
-/// are logged.
+/// are logged by time and the calls counted.
 struct Speeds {
     inner: Box<dyn Mode<B>>,
     mixer: Multirotor<B>,
-    last: Wrench<B>,
     log: Log,
+    calls: Arc<AtomicUsize>,
 }
 
 impl Mode<B> for Speeds {
     fn name(&self) -> &'static str {
         "speeds"
     }
-    fn integral_count(&self) -> usize {
-        self.inner.integral_count()
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        self.inner.integrals()
     }
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         integrals: &[S<B>],
         rates: &mut [S<B>],
     ) -> Result<ModeOutput<B>, ControlError> {
-        let out = self.inner.command(t, state, integrals, rates)?;
-        self.last = Wrench {
-            thrust: out.thrust,
-            moment: out.moment,
-        };
-        Ok(out)
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn rotor_speeds(
-        &mut self,
-        t: S<B>,
-        _state: &VehicleState<B, So3Mat<B>>,
-        speeds: &mut [S<B>],
-    ) -> bool {
-        self.mixer.speed_commands(&self.last, speeds);
-        if let Ok(mut log) = self.log.lock() {
-            log.insert(t.to_bits(), speeds.to_vec());
-        }
-        true
-    }
-}
-
-/// The same law answering once: `command_with_speeds` computes the wrench
-/// and mixes it in one call, with nothing kept between calls. Counts how
-/// often each entry point is called.
-struct SpeedsOnce {
-    inner: Box<dyn Mode<B>>,
-    mixer: Multirotor<B>,
-    log: Log,
-    /// Calls of `command_with_speeds`, then of `command`.
-    calls: Arc<[AtomicUsize; 2]>,
-}
-
-impl SpeedsOnce {
-    fn answer(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        integrals: &[S<B>],
-        rates: &mut [S<B>],
-        speeds: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
+        self.calls.fetch_add(1, Ordering::Relaxed);
         let out = self.inner.command(t, state, integrals, rates)?;
         let wrench = Wrench {
             thrust: out.thrust,
             moment: out.moment,
         };
-        self.mixer.speed_commands(&wrench, speeds);
+        let mut speeds = [0.0; 4];
+        self.mixer.speed_commands(&wrench, &mut speeds);
         if let Ok(mut log) = self.log.lock() {
             log.insert(t.to_bits(), speeds.to_vec());
         }
-        Ok(out)
-    }
-}
-
-impl Mode<B> for SpeedsOnce {
-    fn name(&self) -> &'static str {
-        "speeds"
-    }
-    fn integral_count(&self) -> usize {
-        self.inner.integral_count()
-    }
-    fn command(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        integrals: &[S<B>],
-        rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
-        self.calls[1].fetch_add(1, Ordering::Relaxed);
-        self.answer(t, state, integrals, rates, &mut [0.0; 4])
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn command_with_speeds(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        integrals: &[S<B>],
-        rates: &mut [S<B>],
-        speeds: &mut [S<B>],
-    ) -> Result<(ModeOutput<B>, bool), ControlError> {
-        self.calls[0].fetch_add(1, Ordering::Relaxed);
-        let out = self.answer(t, state, integrals, rates, speeds)?;
-        Ok((out, true))
+        Ok(ModeOutput {
+            rotor_speeds: RotorSpeeds::new(&speeds),
+            ..out
+        })
     }
 }
 
@@ -199,23 +126,23 @@ fn assert_same_flight(a: &RunOutput, b: &RunOutput) {
 /// Wraps a plan's mode.
 type Wrap = Box<dyn Fn(Box<dyn Mode<B>>) -> Box<dyn Mode<B>>>;
 
-fn speeds_of(log: &Log) -> Wrap {
-    let log = log.clone();
+fn speeds_of(log: &Log, calls: &Arc<AtomicUsize>) -> Wrap {
+    let (log, calls) = (log.clone(), calls.clone());
     Box::new(move |inner| {
         Box::new(Speeds {
             inner,
             mixer: crazyflie(),
-            last: Wrench::zero(),
             log: log.clone(),
+            calls: calls.clone(),
         })
     })
 }
 
 #[test]
 fn rotor_speed_commands_fly_like_the_wrench_they_mix() {
-    let log: Log = Arc::default();
+    let (log, calls) = (Log::default(), Arc::default());
     let wrench = fly(Box::new(crazyflie()), &|m| m, false).expect("run");
-    let speeds = fly(Box::new(crazyflie()), &speeds_of(&log), false).expect("run");
+    let speeds = fly(Box::new(crazyflie()), &speeds_of(&log, &calls), false).expect("run");
     assert_same_flight(&wrench, &speeds);
     // The motors lag: the rotor speeds moved, so the path was exercised.
     let w: Vec<f64> = speeds.samples.iter().map(|s| s.vehicle_states[0]).collect();
@@ -225,38 +152,22 @@ fn rotor_speed_commands_fly_like_the_wrench_they_mix() {
 }
 
 #[test]
-fn a_mode_answering_once_is_asked_once_per_control_instant() {
-    let (log, once_log): (Log, Log) = (Arc::default(), Arc::default());
-    let calls: Arc<[AtomicUsize; 2]> = Arc::default();
-    let (l, c) = (once_log.clone(), calls.clone());
-    let once: Wrap = Box::new(move |inner| {
-        Box::new(SpeedsOnce {
-            inner,
-            mixer: crazyflie(),
-            log: l.clone(),
-            calls: c.clone(),
-        })
-    });
-    let two_calls = fly(Box::new(crazyflie()), &speeds_of(&log), true).expect("run");
-    let one_call = fly(Box::new(crazyflie()), &once, true).expect("run");
-    assert_same_flight(&two_calls, &one_call);
-    let instants = once_log.lock().expect("log").len();
+fn a_rotor_speed_mode_is_asked_once_per_control_instant() {
+    let (log, calls) = (Log::default(), Arc::default());
+    let wrench = fly(Box::new(crazyflie()), &|m| m, true).expect("run");
+    let speeds = fly(Box::new(crazyflie()), &speeds_of(&log, &calls), true).expect("run");
+    assert_same_flight(&wrench, &speeds);
+    let instants = log.lock().expect("log").len();
     assert!(instants >= 300, "{instants} control instants");
     // Sampled at 100 Hz: one answer per control instant (the one at t = 0
-    // serves the held command and the rotors' initial speeds alike), and
-    // `command` alone is never asked.
-    assert_eq!(calls[0].load(Ordering::Relaxed), instants);
-    assert_eq!(calls[1].load(Ordering::Relaxed), 0);
-    // Continuous control flies like the wrench too.
-    let wrench = fly(Box::new(crazyflie()), &|m| m, false).expect("run");
-    let continuous = fly(Box::new(crazyflie()), &once, false).expect("run");
-    assert_same_flight(&wrench, &continuous);
+    // serves the held command and the rotors' initial speeds alike).
+    assert_eq!(calls.load(Ordering::Relaxed), instants);
 }
 
 #[test]
 fn a_recorded_speed_sequence_replays_open_loop() {
-    let log: Log = Arc::default();
-    let closed = fly(Box::new(crazyflie()), &speeds_of(&log), true).expect("run");
+    let (log, calls) = (Log::default(), Arc::default());
+    let closed = fly(Box::new(crazyflie()), &speeds_of(&log, &calls), true).expect("run");
     let recorded: Vec<(f64, Vec<f64>)> = log
         .lock()
         .expect("log")
@@ -281,9 +192,9 @@ fn a_recorded_speed_sequence_replays_open_loop() {
 
 #[test]
 fn a_vehicle_without_rotor_speeds_refuses_them() {
-    let log: Log = Arc::default();
+    let (log, calls) = (Log::default(), Arc::default());
     let quad = Quadrotor::<B>::paper();
-    let e = fly(Box::new(quad), &speeds_of(&log), false)
+    let e = fly(Box::new(quad), &speeds_of(&log, &calls), false)
         .expect_err("the paper's quadrotor has no rotor speeds");
     let source = match &e {
         SimError::Step { control, .. } => *control,
@@ -295,6 +206,34 @@ fn a_vehicle_without_rotor_speeds_refuses_them() {
         Some(ControlError::RotorSpeedsUnsupported { mode: "speeds" }),
         "{e}"
     );
+}
+
+/// Three speeds to a four-rotor vehicle: the mode's error, with both
+/// counts, not three rotors driven and one left as it was.
+#[test]
+fn a_wrong_number_of_rotor_speeds_is_the_modes_error() {
+    let three = Idle {
+        psi: 0.0,
+        speeds: vec![(0.0, vec![2000.0; 3])],
+    };
+    let slot = Mutex::new(Some(three));
+    let e = fly(
+        Box::new(crazyflie()),
+        &|_| Box::new(slot.lock().expect("slot").take().expect("one segment")),
+        false,
+    )
+    .expect_err("three speeds for four rotors");
+    let want = ControlError::RotorSpeedCount {
+        mode: "idle",
+        given: 3,
+        rotors: 4,
+    };
+    match &e {
+        SimError::Control { source, .. } => assert_eq!(*source, want, "{e}"),
+        SimError::Step { control, .. } => assert_eq!(*control, Some(want), "{e}"),
+        other => panic!("unexpected error {other}"),
+    }
+    assert!(e.to_string().contains("3 rotor speeds"), "{e}");
 }
 
 /// The crazyflie idling (no thrust, no moment) for 0.1 s from rest, with

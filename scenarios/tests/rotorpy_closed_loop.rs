@@ -15,7 +15,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use controllers::{ControlError, Mode, ModeOutput, VehicleState};
+use controllers::{ControlError, Mode, ModeOutput, RotorSpeeds, VehicleState};
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState, Vehicle};
 use lie::{NalgebraF64, Rotation, S, So3Mat, ops};
 use scenarios::metrics::nan_max;
@@ -103,14 +103,9 @@ impl Se3Control {
 }
 
 impl Se3Control {
-    /// One evaluation of the law: the wrench (returned, for the logs) and
-    /// the rotor speeds it mixes to (written into `speeds`).
-    fn answer(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        speeds: &mut [S<B>],
-    ) -> ModeOutput<B> {
+    /// One evaluation of the law: the wrench (for the logs) and the rotor
+    /// speeds it mixes to (the command).
+    fn answer(&self, t: S<B>, state: &VehicleState<B, So3Mat<B>>) -> ModeOutput<B> {
         let x = p(B::vec3_to_array(state.x));
         let v = p(B::vec3_to_array(state.v));
         let w = p(B::vec3_to_array(state.omega));
@@ -144,7 +139,7 @@ impl Se3Control {
             thrust: u1,
             moment: B::vec3(m[0], m[1], m[2]),
         };
-        let mut f = [0.0; 4];
+        let (mut f, mut speeds) = ([0.0; 4], [0.0; 4]);
         self.mixer
             .actuators_from_wrench(&wrench, &mut f)
             .expect("four rotors");
@@ -159,38 +154,25 @@ impl Se3Control {
             desired,
             desired_omega: B::vec3(0.0, 0.0, 0.0),
             psi: state.r.psi(desired),
+            rotor_speeds: RotorSpeeds::new(&speeds),
         }
     }
 }
 
-/// A rotor-speed law answers both in one call (`command_with_speeds`);
-/// `command` alone (never asked by the simulation here) evaluates it with a
-/// scratch buffer.
+/// A rotor-speed law: its output carries the speeds, and the wrench on
+/// the way to them for the logs.
 impl Mode<B> for Se3Control {
     fn name(&self) -> &'static str {
         "se3control"
     }
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         _integrals: &[S<B>],
         _rates: &mut [S<B>],
     ) -> Result<ModeOutput<B>, ControlError> {
-        Ok(self.answer(t, state, &mut [0.0; 4]))
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        true
-    }
-    fn command_with_speeds(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        _integrals: &[S<B>],
-        _rates: &mut [S<B>],
-        speeds: &mut [S<B>],
-    ) -> Result<(ModeOutput<B>, bool), ControlError> {
-        Ok((self.answer(t, state, speeds), true))
+        Ok(self.answer(t, state))
     }
 }
 

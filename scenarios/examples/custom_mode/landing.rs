@@ -4,8 +4,8 @@
 //! hold the attitude level. Public items of `controllers` and `lie` only.
 
 use controllers::{
-    AccelerationModel, AttitudeGains, AttitudeReference, ControlError, Mode, ModeOutput,
-    PositionGains, PositionReference, RigidBodyParams, VehicleState, attitude_control,
+    AccelerationModel, AttitudeGains, AttitudeReference, ControlError, IntegralLayout, Mode,
+    ModeOutput, PositionGains, PositionReference, RigidBodyParams, VehicleState, attitude_control,
     position_control,
 };
 use lie::{Backend, Real, S, So3Mat};
@@ -69,15 +69,15 @@ impl<B: Backend> Mode<B> for Landing<B> {
     fn name(&self) -> &'static str {
         "landing"
     }
-    fn integral_count(&self) -> usize {
-        6
+    fn integrals(&self) -> IntegralLayout<'_, B> {
+        IntegralLayout::slots(6)
     }
     fn enter(&mut self, t: S<B>, state: &VehicleState<B, So3Mat<B>>, _integrals: &mut [S<B>]) {
         let x = B::vec3_to_array(state.x).map(|c| c.to_f64_lossless());
         self.start = Some((t.to_f64_lossless(), x));
     }
     fn command(
-        &mut self,
+        &self,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         integrals: &[S<B>],
@@ -108,6 +108,7 @@ impl<B: Backend> Mode<B> for Landing<B> {
                 desired: self.level,
                 desired_omega: zero,
                 psi: out.psi,
+                rotor_speeds: None,
             });
         }
         let out = position_control(
@@ -122,17 +123,15 @@ impl<B: Backend> Mode<B> for Landing<B> {
                 model: AccelerationModel::Nominal,
             },
         )?;
-        let (a, p) = (
-            B::vec3_to_array(out.e_i_att_rate),
-            B::vec3_to_array(out.e_i_pos_rate),
-        );
-        rates[..6].copy_from_slice(&[a[0], a[1], a[2], p[0], p[1], p[2]]);
+        rates[..3].copy_from_slice(&B::vec3_to_array(out.e_i_att_rate));
+        rates[3..6].copy_from_slice(&B::vec3_to_array(out.e_i_pos_rate));
         Ok(ModeOutput {
             thrust: out.thrust,
             moment: out.moment,
             desired: out.rc,
             desired_omega: out.omega_c,
             psi: out.psi,
+            rotor_speeds: None,
         })
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {

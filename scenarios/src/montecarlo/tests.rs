@@ -341,6 +341,7 @@ fn the_settle_metric_is_the_larger_tolerance_ratio() {
         desired: lie::So3Mat::<B>::identity(),
         desired_omega: B::vec3(0.0, 0.0, 0.0),
         psi,
+        rotor_speeds: None,
     };
     // ‖x‖ = 0.05: 5 tolerances; Ψ = 2e-3: 2 (then 8e-3: 8).
     assert_eq!(s.metric(&st, &out(2e-3)), 0.05 / 0.01);

@@ -290,7 +290,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         let integrals = self
             .plan
             .iter()
-            .map(|s| s.mode.integral_count())
+            .map(|s| s.mode.integrals().count)
             .max()
             .unwrap_or(0);
         Layout {

@@ -2,13 +2,12 @@
 //! integrator sees. Also the scheduler's part of the loop (which segment is
 //! active, switching into the next).
 
-use controllers::{ControlError, ModeOutput};
+use controllers::{ControlError, ModeOutput, RotorSpeeds};
 use dynamics::{Capabilities, Command as Ask, LoadInput, Vehicle, Wind, Wrench};
 use integrators::{Load, State, System};
 use lie::{Backend, Real, S, SimdReal, V3};
 
 use super::{Segment, SwitchRecord, Until};
-use dynamics::multirotor::MAX_ROTORS;
 
 /// Where the plan's integrals and the vehicle's states sit in the
 /// integrator's extra-state array: the integrals first, then the vehicle's
@@ -17,7 +16,7 @@ use dynamics::multirotor::MAX_ROTORS;
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub(crate) struct Layout {
     /// How many integral states the plan's modes use (the largest
-    /// [`controllers::Mode::integral_count`]).
+    /// [`controllers::Mode::integrals`] count).
     pub integrals: usize,
     /// How many internal states the vehicle declares.
     pub vehicle_states: usize,
@@ -78,8 +77,6 @@ impl Layout {
 pub(crate) struct Command<B: Backend, const N: usize> {
     pub out: ModeOutput<B>,
     pub rates: [S<B>; N],
-    /// Rotor speeds the mode commands instead of the wrench, and how many.
-    pub speeds: Option<([S<B>; MAX_ROTORS], usize)>,
 }
 
 pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
@@ -103,12 +100,6 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     /// The state that rejection came on was finite (see
     /// [`ClosedLoop::complaint`]).
     pub error_on_finite_state: bool,
-    /// Where a mode writes rotor-speed commands (kept, not zeroed per
-    /// evaluation: only a mode that writes them is read from it).
-    pub speed_buf: [S<B>; MAX_ROTORS],
-    /// The active mode commands rotor speeds (asked when it becomes
-    /// active, so a wrench mode pays nothing per evaluation).
-    pub speeds_mode: bool,
     /// The last wind jump the run has arrived at (−∞ before the first):
     /// from there on the wind is read just after it, on its new side,
     /// while the step that ended there read it on the old side.
@@ -138,7 +129,7 @@ pub(crate) struct Answer<B: Backend, const N: usize> {
 impl<B: Backend, const N: usize> Answer<B, N> {
     /// The answer of `command` at `(t, y)` from the segment `active`.
     pub fn new(t: S<B>, y: &State<B, N>, active: usize, c: &Command<B, N>) -> Option<Self> {
-        (!S::<B>::CARRIES_DERIVATIVES && c.speeds.is_none()).then(|| Self {
+        (!S::<B>::CARRIES_DERIVATIVES && c.out.rotor_speeds.is_none()).then(|| Self {
             t: t.to_f64_lossless(),
             y: *y,
             active,
@@ -186,6 +177,16 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     wind_from: f64,
 }
 
+/// The error of `mode` commanding the speeds `w` to `rotors` rotors.
+#[cold]
+fn speed_count<B: Backend>(mode: &'static str, w: &RotorSpeeds<B>, rotors: usize) -> ControlError {
+    ControlError::RotorSpeedCount {
+        mode,
+        given: w.as_slice().len(),
+        rotors,
+    }
+}
+
 /// A load of NaNs: what a failed command hands the integrator, which then
 /// stops on a non-finite state (the error is kept for the report).
 fn nan_load<B: Backend, const N: usize>() -> Load<B, N> {
@@ -212,7 +213,6 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 field: "vehicle",
                 message: "its inertia is singular".into(),
             })?;
-        let speeds_mode = plan.first().is_some_and(|s| s.mode.commands_rotor_speeds());
         Ok(Self {
             vehicle,
             caps: vehicle.capabilities(),
@@ -227,8 +227,6 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             evaluations: 0,
             error: None,
             error_on_finite_state: true,
-            speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
-            speeds_mode,
             wind_from: f64::NEG_INFINITY,
             answer: None,
         })
@@ -255,9 +253,6 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         plan: &'s mut [Segment<'a, B>],
         p: &Parked<B, N>,
     ) -> Self {
-        let speeds_mode = plan
-            .get(p.active)
-            .is_some_and(|s| s.mode.commands_rotor_speeds());
         Self {
             vehicle,
             caps: vehicle.capabilities(),
@@ -272,8 +267,6 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             evaluations: p.evaluations,
             error: None,
             error_on_finite_state: true,
-            speed_buf: [S::<B>::lit(0.0); MAX_ROTORS],
-            speeds_mode,
             wind_from: p.wind_from,
             answer: None,
         }
@@ -308,49 +301,54 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     #[inline]
     pub fn command(&mut self, t: S<B>, y: &State<B, N>) -> Option<Command<B, N>> {
         let mut rates = [S::<B>::lit(0.0); N];
-        let mut speeds = None;
-        let out = self.command_into(t, y, &mut rates, &mut speeds)?;
-        Some(Command { out, rates, speeds })
+        let out = self.command_into(t, y, &mut rates)?;
+        Some(Command { out, rates })
     }
 
     /// [`ClosedLoop::command`] writing the integral rates into `rates`
     /// (zero on entry): the load evaluation's path, without an intermediate
-    /// copy.
+    /// copy. Rotor speeds of a count other than the vehicle's rotors are
+    /// the mode's error.
     #[inline(always)]
     fn command_into(
         &mut self,
         t: S<B>,
         y: &State<B, N>,
         rates: &mut [S<B>; N],
-        speeds: &mut Option<([S<B>; MAX_ROTORS], usize)>,
     ) -> Option<ModeOutput<B>> {
-        let seg = self.plan.get_mut(self.active)?;
-        let st = y.body.as_group();
-        let at = self.layout;
-        // A rotor-speed mode answers once with both (its law may compute
-        // the wrench on the way to the speeds); a wrench mode is asked for
-        // the command alone.
-        let answer = if self.speeds_mode {
-            let n = self.vehicle.actuator_count().min(MAX_ROTORS);
-            seg.mode
-                .command_with_speeds(
-                    t,
-                    st,
-                    at.integrals(&y.extra),
-                    at.integrals_mut(rates),
-                    &mut self.speed_buf[..n],
-                )
-                .map(|(out, wrote)| {
-                    if wrote {
-                        *speeds = Some((self.speed_buf, n));
-                    }
-                    out
-                })
-        } else {
-            seg.mode
-                .command(t, st, at.integrals(&y.extra), at.integrals_mut(rates))
-        };
+        let answer = self.ask(t, y, rates)?;
         self.settle(y, answer, |out| &mut out.moment)
+    }
+
+    /// The active mode's answer at `(t, y)` as it gave it (`None` without a
+    /// plan); rotor speeds of a count other than the vehicle's rotors are
+    /// its error.
+    #[inline(always)]
+    fn ask(
+        &self,
+        t: S<B>,
+        y: &State<B, N>,
+        rates: &mut [S<B>; N],
+    ) -> Option<Result<ModeOutput<B>, ControlError>> {
+        let seg = self.plan.get(self.active)?;
+        let at = self.layout;
+        let mut answer = seg.mode.command(
+            t,
+            y.body.as_group(),
+            at.integrals(&y.extra),
+            at.integrals_mut(rates),
+        );
+        if let Ok(ModeOutput {
+            rotor_speeds: Some(w),
+            ..
+        }) = &answer
+        {
+            let rotors = self.vehicle.actuator_count();
+            if w.as_slice().len() != rotors {
+                answer = Err(speed_count(seg.mode.name(), w, rotors));
+            }
+        }
+        Some(answer)
     }
 
     /// What both command paths do with a mode's answer: a compensating
@@ -413,34 +411,36 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
 
     /// The wrench the active mode commands at `(t, y)`, its integral rates
     /// written into `rates` and any rotor speeds into `speeds`: the load's
-    /// path. A wrench mode is asked for [`Mode::wrench`](controllers::Mode::wrench)
-    /// alone, so the load does not pay for the desired attitude and `Ψ`
-    /// that only samples and switch conditions read.
+    /// path, through [`controllers::Mode::load_command`], so that the load
+    /// does not pay for the desired attitude and `Ψ` that only samples and
+    /// switch conditions read.
     #[inline(always)]
     fn wrench_into(
         &mut self,
         t: S<B>,
         y: &State<B, N>,
         rates: &mut [S<B>; N],
-        speeds: &mut Option<([S<B>; MAX_ROTORS], usize)>,
+        speeds: &mut Option<RotorSpeeds<B>>,
     ) -> Option<Wrench<B>> {
-        if self.speeds_mode {
-            return self.command_into(t, y, rates, speeds).map(|out| Wrench {
-                thrust: out.thrust,
-                moment: out.moment,
-            });
-        }
-        let seg = self.plan.get_mut(self.active)?;
+        let seg = self.plan.get(self.active)?;
         let at = self.layout;
-        let answer = seg
+        let mut answer = seg
             .mode
-            .wrench(
+            .load_command(
+                controllers::load_token(),
                 t,
                 y.body.as_group(),
                 at.integrals(&y.extra),
                 at.integrals_mut(rates),
+                speeds,
             )
             .map(|(thrust, moment)| Wrench { thrust, moment });
+        if let Some(w) = speeds {
+            let rotors = self.vehicle.actuator_count();
+            if w.as_slice().len() != rotors {
+                answer = Err(speed_count(seg.mode.name(), w, rotors));
+            }
+        }
         self.settle(y, answer, |w| &mut w.moment)
     }
 
@@ -567,7 +567,6 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
         }
         let from = self.active;
         self.active += 1;
-        self.speeds_mode = self.plan[self.active].mode.commands_rotor_speeds();
         self.plan[self.active].mode.enter(
             S::<B>::lit(t),
             y.body.as_group(),
@@ -613,35 +612,41 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             thrust: out.thrust,
             moment: out.moment,
         };
-        let mut speeds = None;
-        let w = if self.plan.is_empty() {
-            Wrench::zero()
+        let mut fresh = None;
+        let (w, speeds) = if self.plan.is_empty() {
+            (Wrench::zero(), None)
         } else if self.sampled {
             match &self.held {
                 Some(c) => {
                     rates = c.rates;
-                    speeds = c.speeds;
-                    wrench(&c.out)
+                    (wrench(&c.out), c.out.rotor_speeds.as_ref())
                 }
-                None => Wrench::zero(),
+                None => (Wrench::zero(), None),
             }
         } else if let Some(w) = self.reuse(t, y, &mut rates) {
-            w
+            (w, None)
         } else {
-            match self.wrench_into(t, y, &mut rates, &mut speeds) {
-                Some(w) => w,
+            match self.wrench_into(t, y, &mut rates, &mut fresh) {
+                Some(w) => (w, fresh.as_ref()),
                 None => return nan_load(),
             }
         };
         let at = self.layout;
         let states = at.vehicle_states(&y.extra);
-        let air = self.wind.is_some().then(|| {
-            let a = self.wind_at(t.to_f64_lossless(), y);
-            B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
-        });
-        let air = air.unwrap_or_else(lie::ops::zero::<B>);
-        let ask = match &speeds {
-            Some((buf, n)) => Ask::RotorSpeeds(&buf[..*n]),
+        // The wind's field alone: the held command is borrowed.
+        let air = match self.wind.is_some() {
+            true => {
+                let tw = self.wind_time(t.to_f64_lossless());
+                let a = self
+                    .wind
+                    .as_deref_mut()
+                    .map_or([0.0; 3], |w| w.velocity(tw, f3::<B>(y.body.x)));
+                B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
+            }
+            false => lie::ops::zero::<B>(),
+        };
+        let ask = match speeds {
+            Some(w) => Ask::RotorSpeeds(w.as_slice()),
             None => Ask::Wrench(w),
         };
         let input = LoadInput::new(ask, states, air);

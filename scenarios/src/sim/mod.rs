@@ -18,7 +18,7 @@
 //! # Extra states
 //! The integrator advances the body and a fixed-size array of extra
 //! scalars: slots `0..m` are the plan's integral register (`m` = the
-//! largest [`Mode::integral_count`] of the plan; the paper's modes use
+//! largest [`Mode::integrals`] count of the plan; the paper's modes use
 //! `[e_I, e_i]`, so `m = 6`), slots `m..m + n` the vehicle's internal
 //! states (`n` = [`dynamics::Actuators::state_count`]). Users meet them by name
 //! ([`SimState::integrals`], [`SimState::vehicle_states`],

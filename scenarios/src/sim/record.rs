@@ -114,7 +114,7 @@ pub(crate) fn track_figures<B: Backend, const N: usize>(
     y: &State<B, N>,
 ) -> Result<(), SimError> {
     let cmd = command_at(sys, t, y)?;
-    if !(sys.sampled || sys.speeds_mode)
+    if !sys.sampled
         && let Some(c) = &cmd
     {
         sys.answer = Answer::new(S::<B>::lit(t), y, sys.active, c);

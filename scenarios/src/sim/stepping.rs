@@ -553,7 +553,7 @@ fn breakpoints<B: Backend, const N: usize>(
     if locate_events {
         sys.plan
             .get(sys.active)
-            .map_or_else(Vec::new, |s| s.mode.breakpoints().to_vec())
+            .map_or_else(Vec::new, |s| s.mode.integrals().breakpoints.to_vec())
     } else {
         Vec::new()
     }
@@ -583,19 +583,15 @@ fn begin<B: Backend, const N: usize>(
             sys.command(l(0.0), y)
         };
         let states = sys.layout.vehicle_states_mut(&mut y.extra);
-        let buf;
-        let ask = match first {
-            Some(super::closed_loop::Command {
-                speeds: Some((b, n)),
-                ..
-            }) => {
-                buf = b;
-                dynamics::Command::RotorSpeeds(&buf[..n])
-            }
-            c => dynamics::Command::Wrench(c.map_or_else(Wrench::zero, |c| Wrench {
-                thrust: c.out.thrust,
-                moment: c.out.moment,
-            })),
+        let ask = match &first {
+            Some(c) => match &c.out.rotor_speeds {
+                Some(w) => dynamics::Command::RotorSpeeds(w.as_slice()),
+                None => dynamics::Command::Wrench(Wrench {
+                    thrust: c.out.thrust,
+                    moment: c.out.moment,
+                }),
+            },
+            None => dynamics::Command::Wrench(Wrench::zero()),
         };
         if let Some(a) = sys.caps.actuators {
             a.initial_states(ask, states);

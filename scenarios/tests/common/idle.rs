@@ -1,6 +1,6 @@
 //! A flight mode with no control law, for tests of the loop around modes.
 
-use controllers::{ControlError, Mode, ModeOutput, VehicleState};
+use controllers::{ControlError, Mode, ModeOutput, RotorSpeeds, VehicleState};
 use lie::{NalgebraF64, S, So3Mat};
 
 type B = NalgebraF64;
@@ -20,35 +20,24 @@ impl Mode<B> for Idle {
         "idle"
     }
     fn command(
-        &mut self,
-        _t: S<B>,
+        &self,
+        t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         _integrals: &[S<B>],
         _rates: &mut [S<B>],
     ) -> Result<ModeOutput<B>, ControlError> {
         let z = B::vec3(0.0, 0.0, 0.0);
+        let k = self
+            .speeds
+            .partition_point(|(tk, _)| *tk <= t)
+            .saturating_sub(1);
         Ok(ModeOutput {
             thrust: 0.0,
             moment: z,
             desired: state.r,
             desired_omega: z,
             psi: self.psi,
+            rotor_speeds: self.speeds.get(k).and_then(|(_, w)| RotorSpeeds::new(w)),
         })
-    }
-    fn commands_rotor_speeds(&self) -> bool {
-        !self.speeds.is_empty()
-    }
-    fn rotor_speeds(
-        &mut self,
-        t: S<B>,
-        _state: &VehicleState<B, So3Mat<B>>,
-        speeds: &mut [S<B>],
-    ) -> bool {
-        let k = self
-            .speeds
-            .partition_point(|(tk, _)| *tk <= t)
-            .saturating_sub(1);
-        speeds.copy_from_slice(&self.speeds[k].1);
-        true
     }
 }
