@@ -177,13 +177,24 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     wind_from: f64,
 }
 
-/// The error of `mode` commanding the speeds `w` to `rotors` rotors.
-#[cold]
-fn speed_count<B: Backend>(mode: &'static str, w: &RotorSpeeds<B>, rotors: usize) -> ControlError {
-    ControlError::RotorSpeedCount {
-        mode,
-        given: w.as_slice().len(),
-        rotors,
+/// `answer` unless `speeds` (what `mode` commanded) are not one per rotor
+/// of `vehicle` (asked only when there are speeds): then the mode's error.
+#[inline(always)]
+fn check_speeds<B: Backend, T>(
+    answer: Result<T, ControlError>,
+    speeds: Option<&RotorSpeeds<B>>,
+    mode: &dyn controllers::Mode<B>,
+    vehicle: &dyn Vehicle<B>,
+) -> Result<T, ControlError> {
+    match speeds {
+        Some(w) if w.as_slice().len() != vehicle.actuator_count() => {
+            Err(ControlError::RotorSpeedCount {
+                mode: mode.name(),
+                given: w.as_slice().len(),
+                rotors: vehicle.actuator_count(),
+            })
+        }
+        _ => answer,
     }
 }
 
@@ -332,23 +343,19 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     ) -> Option<Result<ModeOutput<B>, ControlError>> {
         let seg = self.plan.get(self.active)?;
         let at = self.layout;
-        let mut answer = seg.mode.command(
+        let answer = seg.mode.command(
             t,
             y.body.as_group(),
             at.integrals(&y.extra),
             at.integrals_mut(rates),
         );
-        if let Ok(ModeOutput {
-            rotor_speeds: Some(w),
-            ..
-        }) = &answer
-        {
-            let rotors = self.vehicle.actuator_count();
-            if w.as_slice().len() != rotors {
-                answer = Err(speed_count(seg.mode.name(), w, rotors));
-            }
-        }
-        Some(answer)
+        let speeds = answer.as_ref().ok().and_then(|o| o.rotor_speeds);
+        Some(check_speeds(
+            answer,
+            speeds.as_ref(),
+            &*seg.mode,
+            self.vehicle,
+        ))
     }
 
     /// What both command paths do with a mode's answer: a compensating
@@ -424,7 +431,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     ) -> Option<Wrench<B>> {
         let seg = self.plan.get(self.active)?;
         let at = self.layout;
-        let mut answer = seg
+        let answer = seg
             .mode
             .load_command(
                 controllers::load_token(),
@@ -435,12 +442,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 speeds,
             )
             .map(|(thrust, moment)| Wrench { thrust, moment });
-        if let Some(w) = speeds {
-            let rotors = self.vehicle.actuator_count();
-            if w.as_slice().len() != rotors {
-                answer = Err(speed_count(seg.mode.name(), w, rotors));
-            }
-        }
+        let answer = check_speeds(answer, speeds.as_ref(), &*seg.mode, self.vehicle);
         self.settle(y, answer, |w| &mut w.moment)
     }
 
