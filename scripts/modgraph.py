@@ -29,16 +29,21 @@ import sys
 from collections import defaultdict
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "cli", "xtask", "python", "testkit", "capi"]
+CRATES = ["lie", "dynamics", "controllers", "integrators", "scenarios", "logs", "scenes", "studies",
+          "geopid", "cli", "xtask", "python", "testkit", "capi"]
 # Layers of a crate's top-level modules, bottom first: a module may name
 # modules of its own layer or below, never above. Every top-level module
-# of such a crate must be placed (a new one fails until it is).
+# of such a crate must be placed (a new one fails until it is). Between
+# crates the layers are cargo's: the engine (`scenarios`) below the logs
+# and the scenes, the studies on top.
 LAYERS = {
-    "scenarios": [
-        ("engine", ["sim", "lanes"]),
-        ("outputs", ["output"]),
-        ("scenes", ["scene", "builtin", "overrides", "reference", "from_scene", "dynamic", "report"]),
-        ("studies", ["metrics", "gains", "montecarlo", "regress", "stress", "sensitivity"]),
+    "scenes": [
+        ("format", ["scene", "reference"]),
+        ("scenes", ["builtin", "overrides", "registry", "scene_simulation", "run_report"]),
+    ],
+    "studies": [
+        ("metrics", ["metrics"]),
+        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity"]),
         ("figures", ["figures"]),
     ],
 }

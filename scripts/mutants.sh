@@ -25,7 +25,7 @@ FILES=(lie/src/so3.rs lie/src/se3.rs lie/src/series.rs lie/src/quat.rs lie/src/c
        integrators/src/rk.rs integrators/src/lgvi.rs integrators/src/dopri.rs
        integrators/src/dense.rs integrators/src/stepper.rs
        scenarios/src/sim/events.rs scenarios/src/sim/closed_loop.rs
-       scenarios/src/montecarlo/mod.rs scenarios/src/montecarlo/experiments.rs)
+       studies/src/montecarlo/mod.rs studies/src/montecarlo/experiments.rs)
 F=()
 for f in "${FILES[@]}"; do F+=(-f "$f"); done
 # No debug info: the builds are for running tests, and linking is faster.

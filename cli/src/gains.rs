@@ -2,17 +2,17 @@
 //! scene's gains, with the bounds taken from the scene, and a search for
 //! gains that provably meet them (`--synthesize`).
 //!
-//! The bounds, the checker and the search are `scenarios::gains`; this is
+//! The bounds, the checker and the search are `studies::gains`; this is
 //! their command line: arguments, the report as text and JSON.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use controllers::GainReport;
-use scenarios::Scene;
-use scenarios::gains::{CONDITIONS, NAMES, SceneBounds, Synthesis, report, scene_bounds};
-use scenarios::scene::GainsSpec;
+use scenes::Scene;
+use scenes::scene::GainsSpec;
 use serde_json::json;
+use studies::gains::{CONDITIONS, NAMES, SceneBounds, Synthesis, report, scene_bounds};
 
 /// Options of `geopid gains`.
 #[derive(clap::Args, Debug)]
@@ -108,7 +108,7 @@ pub fn gains(a: GainsArgs) -> Result<(), String> {
     if !(a.ex_max.is_finite() && a.ex_max > 0.0) {
         return Err(format!("--ex-max {}: must be finite and > 0", a.ex_max));
     }
-    let mut scene = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
+    let mut scene = scenes::load(&a.scene).map_err(|e| e.to_string())?;
     if let Some(p) = &a.gains {
         scene.gains = read_gains(p, &scene.gains)?;
         scene
@@ -158,7 +158,7 @@ fn write_json(path: &PathBuf, v: &serde_json::Value) -> Result<(), String> {
 
 fn flight_row(name: &str, out: &scenarios::RunOutput, peak: f64) -> String {
     let at = |t: f64| {
-        scenarios::metrics::at(&out.samples, t)
+        studies::metrics::at(&out.samples, t)
             .map_or("—".into(), |s| format!("{:.3e} / {:.3e}", s.psi, s.ex))
     };
     // The time after which Ψ stays below 1e-3.
@@ -179,7 +179,7 @@ fn flight_row(name: &str, out: &scenarios::RunOutput, peak: f64) -> String {
 fn synthesize(scene: &Scene, sb: &SceneBounds, a: &GainsArgs) -> Result<(), String> {
     let start = Instant::now();
     print_bounds(sb);
-    let s = scenarios::gains::synthesize(scene, sb, a.thrust_limit, a.evaluations)
+    let s = studies::gains::synthesize(scene, sb, a.thrust_limit, a.evaluations)
         .map_err(|e| e.to_string())?;
     println!(
         "rotor thrust limit {:.3} N ({}); searching {} gains in log space",

@@ -62,7 +62,7 @@ impl Command {
         match self {
             Command::Run(a) => run::run(*a),
             Command::Scenes => {
-                for s in scenarios::builtin::all() {
+                for s in scenes::builtin::all() {
                     println!("{}", s.name);
                 }
                 Ok(0)
@@ -85,9 +85,9 @@ pub enum Error {
     /// The scene failed to load or validate, or an option made it invalid.
     Scene(scenarios::SceneError),
     /// An output could not be created or written.
-    Output(scenarios::output::OutputError),
+    Output(logs::OutputError),
     /// Two outputs name the same file, or an output is the scene file.
-    Path(scenarios::output::PathError),
+    Path(logs::PathError),
     /// An option or an argument is missing or wrong.
     Usage(String),
     /// The run failed: a step, a control input, an output mid-run.
@@ -106,7 +106,7 @@ pub enum Error {
         count: usize,
     },
     /// The figures could not be drawn.
-    Figure(scenarios::figures::FigureError),
+    Figure(studies::figures::FigureError),
     /// The terminal or a signal handler failed.
     Io {
         /// What was being done.
@@ -181,8 +181,8 @@ impl From<scenarios::SceneError> for Error {
     }
 }
 
-impl From<scenarios::output::OutputError> for Error {
-    fn from(e: scenarios::output::OutputError) -> Self {
+impl From<logs::OutputError> for Error {
+    fn from(e: logs::OutputError) -> Self {
         Error::Output(e)
     }
 }

@@ -1,17 +1,17 @@
 //! `geopid montecarlo`: the paper's "almost global" attractivity
 //! (Propositions 2 and 3) checked over many random initial conditions.
 //! The study itself (sampling, classification, statistics) is
-//! `scenarios::montecarlo`; this is its command line: arguments, shards and
+//! `studies::montecarlo`; this is its command line: arguments, shards and
 //! their merge, the output directory, progress, the figures, and the
 //! near-π experiment.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use scenarios::Scene;
-use scenarios::montecarlo::{Initial, Outcome, Report, SAMPLES_HEADER, Setup};
+use scenes::Scene;
+use studies::montecarlo::{Initial, Outcome, Report, SAMPLES_HEADER, Setup};
 
-use scenarios::montecarlo::shards::{
+use studies::montecarlo::shards::{
     self, Shard, write_atomic, write_run, write_samples, write_shard,
 };
 
@@ -277,7 +277,7 @@ fn finish(dir: &Path, setup: &Setup, rows: &[Outcome], wall: Option<f64>) -> Res
     let report = summary(setup, rows, wall);
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     write_atomic(&dir.join("summary.json"), text.as_bytes()).map_err(|e| e.to_string())?;
-    scenarios::figures::montecarlo(dir, rows).map_err(|e| e.to_string())?;
+    studies::figures::montecarlo(dir, rows).map_err(|e| e.to_string())?;
     print!("{report}");
     // The replay is the slowest *converged* sample: a diverging one would
     // make `geopid run` (uncapped dopri) grind through its blow-up;
@@ -392,18 +392,18 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
 }
 
 /// `geopid montecarlo near-pi`: the escape time from near π against
-/// `ln(1/δ)/λ₊` (`scenarios::montecarlo::near_pi`), `near-pi.csv`, and a
+/// `ln(1/δ)/λ₊` (`studies::montecarlo::near_pi`), `near-pi.csv`, and a
 /// failure when the fitted slope and 1/λ₊ differ by more than 1 %.
 pub fn near_pi(out: Option<&Path>) -> Result<(), String> {
     let dir = out.map_or_else(|| PathBuf::from("target/montecarlo"), Path::to_path_buf);
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let report = scenarios::montecarlo::near_pi().map_err(|e| e.to_string())?;
+    let report = studies::montecarlo::near_pi().map_err(|e| e.to_string())?;
     if let Some((a, d)) = report.iter().find_map(|a| Some((a.axis, a.unsettled()?))) {
         return Err(format!(
             "near-pi {a} δ = {d:e}: Ψ never dropped below 1e-3 in 60 s"
         ));
     }
-    let csv = scenarios::montecarlo::near_pi_csv(&report);
+    let csv = studies::montecarlo::near_pi_csv(&report);
     write_atomic(&dir.join("near-pi.csv"), csv.as_bytes()).map_err(|e| e.to_string())?;
     println!(
         "time to Ψ < 1e-3 from R(0) = exp((π − δ) â), attitude mode, paper gains, no disturbance:"

@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use scenarios::scene::{BackendKind, Scalar};
-use scenarios::{RunOptions, RunOutput, Scene, SceneError, SimError, builtin, output};
+use scenarios::{RunOptions, RunOutput, SceneError, SimError};
+use scenes::scene::{BackendKind, Scalar};
+use scenes::{Scene, builtin};
 
 use crate::Error;
 
@@ -80,7 +81,7 @@ pub struct RunArgs {
 
 /// Applies the command-line overrides to a scene and validates it.
 pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, SceneError> {
-    let overrides = scenarios::Overrides {
+    let overrides = scenes::Overrides {
         integrator: a.integrator.clone(),
         dt: a.dt,
         tol: a.tol,
@@ -105,7 +106,7 @@ pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, SceneError> {
 pub fn run_scene_with(
     scene: &Scene,
     record: bool,
-    sink: Option<&mut dyn output::Sink>,
+    sink: Option<&mut dyn logs::Sink>,
     cancel: Option<&AtomicBool>,
 ) -> Result<RunOutput, SimError> {
     let est_steps = scene.estimated_steps();
@@ -138,13 +139,13 @@ pub fn run_scene_with(
             );
         }
     };
-    let out = scenarios::run(
+    let out = scenes::run(
         scene,
         RunOptions {
             record,
             progress: Some(&mut tick),
             // Reborrowed: the options' one lifetime is the closure's.
-            sink: sink.map(|k| -> &mut dyn output::Sink { k }),
+            sink: sink.map(|k| -> &mut dyn logs::Sink { k }),
             cancel,
             extrema: true,
         },
@@ -169,7 +170,7 @@ fn outcome(
     last_t: Option<f64>,
     by_int: bool,
     by_term: bool,
-) -> (Vec<String>, Option<output::Stopped>, u8) {
+) -> (Vec<String>, Option<logs::Stopped>, u8) {
     match result {
         Ok(out) => {
             let mut w = out.warnings.clone();
@@ -185,7 +186,7 @@ fn outcome(
             } else {
                 ("cancelled", EXIT_SIGINT)
             };
-            let stopped = out.interrupted_at().map(|t| output::Stopped {
+            let stopped = out.interrupted_at().map(|t| logs::Stopped {
                 t,
                 reason: reason.into(),
             });
@@ -194,7 +195,7 @@ fn outcome(
         }
         Err(e) => (
             Vec::new(),
-            Some(output::Stopped {
+            Some(logs::Stopped {
                 t: last_t.unwrap_or(0.0),
                 reason: format!("error: {e}"),
             }),
@@ -206,7 +207,7 @@ fn outcome(
 /// Every output path checked before the run: none may be the scene file.
 fn check_paths(a: &RunArgs, scene_name: &str) -> Result<(), Error> {
     let scene_file = Path::new(scene_name);
-    output::check_paths(
+    logs::check_paths(
         &[("--csv", a.csv.as_deref()), ("--mcap", a.mcap.as_deref())],
         a.plot.as_deref().map(|p| ("--plot", p)),
         scene_file.exists().then_some(scene_file),
@@ -229,7 +230,7 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
             crate::program()
         ))
     })?;
-    let scene = apply(scenarios::load(name)?, &a)?;
+    let scene = apply(scenes::load(name)?, &a)?;
     if a.print_scene {
         print!("{}", scene.to_toml());
         return Ok(0);
@@ -247,17 +248,13 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
     })?;
     // The files are created now (as `.partial`) and written as the run
     // goes; memory does not grow with the duration.
-    let mut csv = a
-        .csv
-        .as_deref()
-        .map(output::CsvWriter::create)
-        .transpose()?;
+    let mut csv = a.csv.as_deref().map(logs::CsvWriter::create).transpose()?;
     let mut mcap = a
         .mcap
         .as_deref()
-        .map(output::McapWriter::create)
+        .map(logs::McapWriter::create)
         .transpose()?;
-    let mut sinks: Vec<&mut dyn output::Sink> = Vec::new();
+    let mut sinks: Vec<&mut dyn logs::Sink> = Vec::new();
     if let Some(w) = csv.as_mut() {
         sinks.push(w);
     }
@@ -265,11 +262,11 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
         sinks.push(w);
     }
     let streaming = !sinks.is_empty();
-    let mut sink = output::Watched::new(output::Tee(sinks));
+    let mut sink = logs::Watched::new(logs::Tee(sinks));
     let result = run_scene_with(
         &scene,
         a.plot.is_some(),
-        streaming.then_some(&mut sink as &mut dyn output::Sink),
+        streaming.then_some(&mut sink as &mut dyn logs::Sink),
         Some(&cancel),
     );
     let last_t = sink.last_t;
@@ -289,14 +286,14 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
     let to_stdout = [a.csv.as_deref(), a.mcap.as_deref()]
         .into_iter()
         .flatten()
-        .any(output::is_stdout);
+        .any(logs::is_stdout);
     let mut report: Box<dyn std::io::Write> = if to_stdout {
         Box::new(std::io::stderr())
     } else {
         Box::new(std::io::stdout())
     };
     if let Ok(out) = &result {
-        write!(report, "{}", out.report(&scene)).map_err(|source| Error::Io {
+        write!(report, "{}", scenes::RunReport::new(&scene, out)).map_err(|source| Error::Io {
             what: "printing the summary",
             source,
         })?;
@@ -314,7 +311,7 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
     });
     // A reader that closed its pipe (`--csv /dev/stdout | head`) ends the
     // run as a shell pipeline expects: quietly, with SIGPIPE's status.
-    let pipe_closed = |e: &output::OutputError| e.io_kind == Some(std::io::ErrorKind::BrokenPipe);
+    let pipe_closed = |e: &logs::OutputError| e.io_kind == Some(std::io::ErrorKind::BrokenPipe);
     if matches!(&result, Err(SimError::Output(e)) if pipe_closed(e))
         || matches!(&csv_done, Some(Err(e)) if pipe_closed(e))
         || matches!(&mcap_done, Some(Err(e)) if pipe_closed(e))
@@ -350,7 +347,7 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
         });
     }
     if let Some(dir) = &a.plot {
-        let files = scenarios::figures::run(dir, &scene, &out).map_err(Error::Figure)?;
+        let files = studies::figures::run(dir, &scene, &out).map_err(Error::Figure)?;
         for f in files {
             let _ = writeln!(report, "  wrote {}", f.display());
         }

@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use scenarios::Scene;
+use scenes::Scene;
 
 /// Options of `geopid sweep`.
 #[derive(clap::Args, Debug)]
@@ -25,19 +25,19 @@ pub struct SweepArgs {
 }
 
 /// One point of a work-precision sweep.
-pub use scenarios::metrics::WorkPoint as Point;
+pub use studies::metrics::WorkPoint as Point;
 
 /// `geopid sweep`: the sweep, its CSV and figure.
 pub fn sweep(a: SweepArgs) -> Result<(), String> {
-    let mut base = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
+    let mut base = scenes::load(&a.scene).map_err(|e| e.to_string())?;
     match a.scalar.as_deref() {
-        Some("f32") => base.scalar = scenarios::scene::Scalar::F32,
-        Some("f64") => base.scalar = scenarios::scene::Scalar::F64,
+        Some("f32") => base.scalar = scenes::scene::Scalar::F32,
+        Some("f64") => base.scalar = scenes::scene::Scalar::F64,
         _ => {}
     }
     match a.backend.as_deref() {
-        Some("glam") => base.backend = scenarios::scene::BackendKind::Glam,
-        Some("nalgebra") => base.backend = scenarios::scene::BackendKind::Nalgebra,
+        Some("glam") => base.backend = scenes::scene::BackendKind::Glam,
+        Some("nalgebra") => base.backend = scenes::scene::BackendKind::Nalgebra,
         _ => {}
     }
     let pts = points(&base, false, &mut |_| {})?;
@@ -68,19 +68,19 @@ pub fn sweep(a: SweepArgs) -> Result<(), String> {
     }
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let svg = dir.join(format!("{}.svg", base.name));
-    scenarios::figures::work_precision(&svg, &base.name, &pts).map_err(|e| e.to_string())?;
+    studies::figures::work_precision(&svg, &base.name, &pts).map_err(|e| e.to_string())?;
     println!("wrote {} and {}", csv.display(), svg.display());
     Ok(())
 }
 
-/// Every stepper over its grid on `base` ([`scenarios::metrics::work_precision`]);
+/// Every stepper over its grid on `base` ([`studies::metrics::work_precision`]);
 /// the settings that failed are printed.
 pub fn points(
     base: &Scene,
     quick: bool,
     tick: &mut dyn FnMut(&Point),
 ) -> Result<Vec<Point>, String> {
-    let sweep = scenarios::metrics::work_precision(base, quick, tick).map_err(|e| e.to_string())?;
+    let sweep = studies::metrics::work_precision(base, quick, tick).map_err(|e| e.to_string())?;
     for (kind, p, e) in &sweep.failures {
         println!("  {kind} {p:e}: failed: {e}");
     }

@@ -1,10 +1,10 @@
 //! `geopid tune`: k_x, k_v, k_R and k_Ω tuned on the exact gradient of
-//! a scene's tracking cost (`scenarios::sensitivity::tune_gains`), each
+//! a scene's tracking cost (`studies::sensitivity::tune_gains`), each
 //! iteration printed, the tuned scene written.
 
 use std::path::PathBuf;
 
-use scenarios::sensitivity::{GainTuning, tune_gains};
+use studies::sensitivity::{GainTuning, tune_gains};
 
 /// Options of `geopid tune`.
 #[derive(clap::Args, Debug)]
@@ -28,7 +28,7 @@ pub struct TuneArgs {
 
 /// `geopid tune`. The cost is sampled at the scene's record interval.
 pub fn tune(a: TuneArgs) -> Result<(), String> {
-    let scene = scenarios::load(&a.scene).map_err(|e| e.to_string())?;
+    let scene = scenes::load(&a.scene).map_err(|e| e.to_string())?;
     let weight = scene.vehicle.mass * scene.vehicle.gravity;
     let spec = GainTuning {
         factor: a.factor,
@@ -42,7 +42,7 @@ pub fn tune(a: TuneArgs) -> Result<(), String> {
     );
     println!("|---|---|---|---|---|---|---|---|");
     let started = std::time::Instant::now();
-    let reg = scenarios::Registry::new();
+    let reg = scenes::Registry::new();
     let out = tune_gains(&reg, &scene, &spec, &mut |s| {
         let [kx, kv, kr, kw] = s.values;
         println!(

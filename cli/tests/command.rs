@@ -34,7 +34,7 @@ fn help_lists_every_subcommand() {
 fn scenes_lists_the_built_ins_one_a_line() {
     let out = geopid(&["scenes"]);
     assert!(out.status.success());
-    let names: Vec<String> = scenarios::builtin::all()
+    let names: Vec<String> = scenes::builtin::all()
         .iter()
         .map(|s| s.name.clone())
         .collect();
@@ -91,11 +91,11 @@ fn a_run_writes_the_bytes_the_library_writes() {
         "{summary}"
     );
 
-    let mut scene = scenarios::load("paper-flip").unwrap();
+    let mut scene = scenes::load("paper-flip").unwrap();
     scene.duration = 1.0;
-    let run = scenarios::run(&scene, Default::default()).unwrap();
+    let run = scenes::run(&scene, Default::default()).unwrap();
     let whole = scratch("flip-lib.csv");
-    scenarios::output::write_csv(&whole, &run).unwrap();
+    logs::write_csv(&whole, &run).unwrap();
     assert!(
         std::fs::read(&streamed).unwrap() == std::fs::read(&whole).unwrap(),
         "the command's CSV differs from write_csv's"

@@ -5,8 +5,8 @@
 //! backticks, or as a word on a line that names its parent path in
 //! backticks (the table row of `plan[].position` lists its variants' keys).
 
-use geopid::scenarios::builtin;
-use geopid::scenarios::scene::{
+use geopid::scenes::builtin;
+use geopid::scenes::scene::{
     AttitudeRef, MultirotorSpec, PositionRef, Preset, Scene, SegmentSpec, ThrustSpec, WindSpec,
 };
 

@@ -115,8 +115,9 @@ class Result:
     run is sound). Figures: ``steps``, ``evaluations``, ``max_thrust``,
     ``max_rotor``, ``wall`` (s), ``max_orthogonality_error``,
     ``psi_range``, ``epsilon``. ``termination`` is a dict: ``kind``
-    ("completed", "stopped", "interrupted" or "diverged"), ``t`` and, for
-    a divergence, ``what`` and ``value``.
+    ("completed", "stopped", "interrupted" or "diverged"; "unknown" for a
+    reason newer than this package), ``t`` and, for a divergence, ``what``
+    and ``value``.
     """
 
     _ARRAYS = (

@@ -13,7 +13,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
-use scenarios::scene::{AccelModel, GainsSpec};
+use scenes::scene::{AccelModel, GainsSpec};
 
 use crate::arrays::{Col, array, input_col};
 

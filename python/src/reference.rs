@@ -5,7 +5,7 @@ use std::sync::{Arc, Mutex};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use scenarios::PositionFn;
+use scenes::PositionFn;
 
 /// The first error a callable raised, kept for the caller to re-raise
 /// once the run has stopped (the run itself sees a NaN reference, which

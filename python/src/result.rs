@@ -5,9 +5,8 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scenarios::{
-    Divergence, DivergenceGuard, RunOptions, RunOutput, SceneSimulation, Termination, output,
-};
+use scenarios::{Divergence, DivergenceGuard, RunOptions, RunOutput, Termination};
+use scenes::SceneSimulation;
 
 use crate::arrays::{array, interruptible, mats, rows};
 use crate::reference::{ErrorCell, position_fn, take_error};
@@ -16,7 +15,8 @@ use crate::{DivergedError, sim_error};
 
 /// How a run ended, as a dict: `kind` (completed, stopped, interrupted,
 /// diverged), `t` (None when completed), and for a divergence `what`
-/// (omega, position_error, moment, substeps) and `value`.
+/// (omega, position_error, moment, substeps) and `value`; a reason the
+/// engine gains later reads `unknown` until this binding names it.
 pub(crate) fn termination<'py>(py: Python<'py>, t: &Termination) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let (kind, time) = match *t {
@@ -29,11 +29,13 @@ pub(crate) fn termination<'py>(py: Python<'py>, t: &Termination) -> PyResult<Bou
                 Divergence::PositionError(e) => ("position_error", e),
                 Divergence::Moment(m) => ("moment", m),
                 Divergence::Substeps(n) => ("substeps", f64::from(n)),
+                _ => ("unknown", f64::NAN),
             };
             d.set_item("what", name)?;
             d.set_item("value", value)?;
             ("diverged", Some(t))
         }
+        _ => ("unknown", None),
     };
     d.set_item("kind", kind)?;
     d.set_item("t", time)?;
@@ -85,7 +87,8 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bou
     let switches: Vec<(f64, usize, usize)> =
         out.switches.iter().map(|w| (w.t, w.from, w.to)).collect();
     d.set_item("switches", switches)?;
-    d.set_item("event_times", out.event_times.clone())?;
+    let events: Vec<(f64, usize)> = out.event_times.iter().map(|e| (e.t, e.component)).collect();
+    d.set_item("event_times", events)?;
     d.set_item("steps", out.steps)?;
     d.set_item("evaluations", out.evaluations)?;
     d.set_item("max_thrust", out.max_thrust)?;
@@ -93,7 +96,7 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bou
     d.set_item("wall", out.wall)?;
     d.set_item("warnings", out.warnings.clone())?;
     d.set_item("max_orthogonality_error", out.max_orthogonality_error)?;
-    d.set_item("psi_range", out.psi_range)?;
+    d.set_item("psi_range", (out.psi_range.min, out.psi_range.max))?;
     d.set_item("epsilon", out.epsilon)?;
     let health: Vec<String> = out.health().iter().map(|h| h.to_string()).collect();
     d.set_item("health", health)?;
@@ -130,7 +133,7 @@ fn check_outputs(
     csv: Option<&std::path::Path>,
     mcap: Option<&std::path::Path>,
 ) -> PyResult<()> {
-    output::check_paths(&[("csv", csv), ("mcap", mcap)], None, None).map_err(|e| {
+    logs::check_paths(&[("csv", csv), ("mcap", mcap)], None, None).map_err(|e| {
         let err = PyOSError::new_err(e.to_string());
         let v = err.value(py);
         // Attributes that cannot be set leave the message, which says the
@@ -194,14 +197,14 @@ pub(crate) fn run<'py>(
     if let Some(e) = cell.lock().unwrap_or_else(|p| p.into_inner()).take() {
         return Err(e);
     }
-    let written = |r: Result<u64, output::OutputError>| {
+    let written = |r: Result<u64, logs::OutputError>| {
         r.map_err(|e| sim_error(py, &scenarios::SimError::Output(e)))
     };
     if let Some(p) = &csv {
-        written(output::write_csv(p, &out))?;
+        written(logs::write_csv(p, &out))?;
     }
     if let Some(p) = &mcap {
-        written(output::write_mcap(p, &out))?;
+        written(logs::write_mcap(p, &out))?;
     }
     let d = output_dict(py, &out)?;
     if let (true, Some((what, t))) = (raise_on_divergence, out.diverged()) {

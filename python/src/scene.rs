@@ -4,8 +4,9 @@
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyTuple};
-use scenarios::scene::{BackendKind, Scalar};
-use scenarios::{Overrides, SceneError as RsSceneError};
+use scenarios::SceneError as RsSceneError;
+use scenes::Overrides;
+use scenes::scene::{BackendKind, Scalar};
 
 use crate::scene_error;
 
@@ -13,7 +14,7 @@ use crate::scene_error;
 #[pyclass(module = "geopid._geopid", frozen)]
 #[derive(Clone)]
 pub struct Scene {
-    pub(crate) inner: scenarios::Scene,
+    pub(crate) inner: scenes::Scene,
 }
 
 fn parse_enum<T>(field: &str, v: &str, options: &[(&str, T)]) -> Result<T, RsSceneError>
@@ -130,7 +131,7 @@ impl Scene {
     /// A built-in scene by name, or a scene file by path.
     #[staticmethod]
     fn load(py: Python<'_>, name_or_path: &str) -> PyResult<Self> {
-        scenarios::load(name_or_path)
+        scenes::load(name_or_path)
             .map(|inner| Self { inner })
             .map_err(|e| scene_error(py, &e))
     }
@@ -139,7 +140,7 @@ impl Scene {
     #[staticmethod]
     #[pyo3(signature = (text, origin = "<string>"))]
     fn from_toml(py: Python<'_>, text: &str, origin: &str) -> PyResult<Self> {
-        scenarios::Scene::from_toml(text, origin)
+        scenes::Scene::from_toml(text, origin)
             .map(|inner| Self { inner })
             .map_err(|e| scene_error(py, &e))
     }
@@ -156,7 +157,7 @@ impl Scene {
         let mut table = to_toml(d.as_any(), "")?;
         if let toml::Value::Table(t) = &mut table {
             t.entry("format")
-                .or_insert(toml::Value::Integer(scenarios::scene::SCENE_FORMAT.into()));
+                .or_insert(toml::Value::Integer(scenes::scene::SCENE_FORMAT.into()));
         }
         let text = toml::to_string(&table).map_err(|e| {
             scene_error(py, &RsSceneError::at_key("scene", format!("{origin}: {e}")))
@@ -197,10 +198,7 @@ impl Scene {
     /// The built-in scene names.
     #[staticmethod]
     fn builtin_names() -> Vec<String> {
-        scenarios::builtin::all()
-            .into_iter()
-            .map(|s| s.name)
-            .collect()
+        scenes::builtin::all().into_iter().map(|s| s.name).collect()
     }
 
     fn __repr__(&self) -> String {

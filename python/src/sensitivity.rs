@@ -3,8 +3,8 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scenarios::Registry;
-use scenarios::sensitivity::{GainTuning, TUNED_GAINS, tracking_gradient, tune_gains};
+use scenes::Registry;
+use studies::sensitivity::{GainTuning, TUNED_GAINS, tracking_gradient, tune_gains};
 
 use crate::arrays::{array, rows};
 use crate::scene::Scene;
@@ -63,7 +63,7 @@ pub(crate) fn tune<'py>(
     d.set_item("scene", Scene { inner: tuned })?;
     d.set_item("gains", rows(py, history.iter().map(|s| s.values))?)?;
     d.set_item("gradient", rows(py, history.iter().map(|s| s.gradient))?)?;
-    let col = |f: fn(&scenarios::sensitivity::TuneStep<4>) -> f64| {
+    let col = |f: fn(&studies::sensitivity::TuneStep<4>) -> f64| {
         array(py, &[history.len()], history.iter().map(f).collect())
     };
     d.set_item("cost", col(|s| s.cost)?)?;

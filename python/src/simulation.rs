@@ -4,7 +4,8 @@ use numpy::PyReadonlyArrayDyn;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scenarios::{DivergenceGuard, SceneSimulation, StateF64};
+use scenarios::DivergenceGuard;
+use scenes::{SceneSimulation, StateF64};
 
 use crate::arrays::{array, input_col};
 use crate::reference::{ErrorCell, position_fn, take_error};

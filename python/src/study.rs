@@ -4,7 +4,7 @@
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scenarios::montecarlo::{Outcome, SAMPLES_HEADER, Setup, write_samples};
+use studies::montecarlo::{Outcome, SAMPLES_HEADER, Setup, write_samples};
 
 use crate::arrays::{array, interruptible};
 use crate::sim_error;

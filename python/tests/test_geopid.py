@@ -12,7 +12,7 @@ import pytest
 import geopid
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-FLIP_TOML = os.path.join(ROOT, "scenarios", "scenes", "paper-flip.toml")
+FLIP_TOML = os.path.join(ROOT, "scenes", "scenes", "paper-flip.toml")
 # The command line to compare with: an xtask binary already built (CI's,
 # given in XTASK) or `cargo xtask` from the checkout.
 XTASK = [os.environ["XTASK"]] if os.environ.get("XTASK") else ["cargo", "xtask"]

@@ -3,7 +3,7 @@
 //! every (backend, scalar) pair.
 //!
 //! 1. Runs the criterion benches `controllers/benches/update.rs` (one
-//!    attitude and one position update) and `scenarios/benches/step.rs`
+//!    attitude and one position update) and `studies/benches/step.rs`
 //!    (1000 closed-loop steps per stepper and pair, and the hand-written
 //!    glam RK4 loop), then reads their medians from criterion's
 //!    `estimates.json` files and writes `target/bench/summary.csv`:
@@ -32,7 +32,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use scenarios::scene::{BackendKind, Scalar};
+use scenes::scene::{BackendKind, Scalar};
 
 mod extras;
 mod lanes;
@@ -92,18 +92,18 @@ fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
 /// that one `cargo bench --no-run` compiles each library once. (Most of
 /// the build is the bench binaries themselves, each instantiating every
 /// pair and stepper: one build instead of four saved little of it.)
-const BENCH_PACKAGES: [&str; 3] = ["geopid-lie", "geopid-controllers", "geopid-scenarios"];
-const BENCH_FEATURES: &str = "geopid-lie/simd,geopid-controllers/simd,geopid-scenarios/simd";
+const BENCH_PACKAGES: [&str; 3] = ["geopid-lie", "geopid-controllers", "geopid-studies"];
+const BENCH_FEATURES: &str = "geopid-lie/simd,geopid-controllers/simd,geopid-studies/simd";
 
 /// The criterion passes: `(package folder, bench target, filter)`. `lie`'s own
 /// `lanes` bench (per-rotation lane timings) is not one of them.
 const PASSES: [(&str, &str, &str); 6] = [
     ("controllers", "update", ""),
-    ("scenarios", "step", ""),
-    ("scenarios", "gradient", ""),
+    ("studies", "step", ""),
+    ("studies", "gradient", ""),
     ("lie", "lie", "vs-native"),
     ("controllers", "lanes", ""),
-    ("scenarios", "lanes", ""),
+    ("studies", "lanes", ""),
 ];
 
 /// Builds every bench binary of [`PASSES`] in one `cargo bench --no-run`
@@ -359,7 +359,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     }
     let (csv, table) = summary_tables(&rows);
     print!("{table}");
-    let [e64, e32] = scenarios::metrics::flip_rk4_errors().map_err(|e| e.to_string())?;
+    let [e64, e32] = studies::metrics::flip_rk4_errors().map_err(|e| e.to_string())?;
     let flip_error = format!(
         "paper-flip rk4 1 ms whole run: final-state error (max |Δx|, |ΔR| against dopri 1e-12 f64) {e64:.2e} in f64, {e32:.2e} in f32"
     );
@@ -384,7 +384,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         "work-precision",
     );
     for scene_name in scenes {
-        let mut base = scenarios::load(scene_name).map_err(|e| e.to_string())?;
+        let mut base = scenes::load(scene_name).map_err(|e| e.to_string())?;
         if a.quick && scene_name == "free-rigid-body" {
             base.duration = 10.0;
         }
@@ -404,7 +404,7 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
     let wp_csv = out_dir.join("work_precision.csv");
     std::fs::write(&wp_csv, &csv).map_err(|e| format!("{}: {e}", wp_csv.display()))?;
     let wp_svg = out_dir.join("work_precision.svg");
-    scenarios::figures::work_precision_panels(&wp_svg, &wp).map_err(|e| e.to_string())?;
+    studies::figures::work_precision_panels(&wp_svg, &wp).map_err(|e| e.to_string())?;
     let fastest = best_per_accuracy(&wp);
     print!("{fastest}");
 
@@ -419,8 +419,8 @@ pub fn bench(a: BenchArgs) -> Result<(), String> {
         ("/bench/summary", "gpid.BenchRow", summary_csv.as_str()),
         ("/bench/work_precision", "gpid.WorkPrecisionPoint", &csv),
     ]
-    .map(|(topic, schema, csv)| scenarios::output::Table { topic, schema, csv });
-    scenarios::output::write_tables(&mcap, now, &tables).map_err(|e| e.to_string())?;
+    .map(|(topic, schema, csv)| logs::Table { topic, schema, csv });
+    logs::write_tables(&mcap, now, &tables).map_err(|e| e.to_string())?;
     println!(
         "wrote {}, {}, {}, {} in {:.0} s",
         summary.display(),
@@ -457,7 +457,7 @@ fn best_per_accuracy(wp: &[(String, &str, Point)]) -> String {
     for (scene, pair) in keys {
         let of_pair = || wp.iter().filter(|(s, p, _)| *s == scene && *p == pair);
         let cell = |target: f64| {
-            scenarios::metrics::fastest_within(of_pair().map(|w| &w.2), target)
+            studies::metrics::fastest_within(of_pair().map(|w| &w.2), target)
                 .map_or("none".to_string(), |x| {
                     format!("{} {:.2e} ({:.1} ms)", x.kind, x.param, x.wall * 1e3)
                 })

@@ -1,10 +1,12 @@
 //! `cargo xtask regress [--quick]`: the regression suite
-//! (`scenarios::regress`) as a table, each scene's main run logged to
+//! (`studies::regress`) as a table, each scene's main run logged to
 //! `target/regress/<scene>.mcap`.
 
 use std::path::PathBuf;
 
-use scenarios::{RunOutput, Scene, output};
+use scenarios::RunOutput;
+
+use scenes::Scene;
 
 #[derive(clap::Args, Debug)]
 pub struct RegressArgs {
@@ -20,11 +22,11 @@ pub fn regress(a: RegressArgs) -> Result<(), String> {
     let mut logged = Ok(());
     let mut log = |scene: &Scene, out: &RunOutput| {
         let path = dir.join(format!("{}.mcap", scene.name));
-        if let Err(e) = output::write_mcap(&path, out) {
+        if let Err(e) = logs::write_mcap(&path, out) {
             logged = Err(format!("{}: {e}", path.display()));
         }
     };
-    let checks = scenarios::regress::checks(a.quick, &mut log).map_err(|e| e.to_string())?;
+    let checks = studies::regress::checks(a.quick, &mut log).map_err(|e| e.to_string())?;
     logged?;
     println!("| scene | metric | value | expected | tolerance | ok |");
     println!("|---|---|---|---|---|---|");

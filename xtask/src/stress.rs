@@ -1,5 +1,5 @@
 //! `cargo xtask stress [--quick]`: the numerical stress suite
-//! (`scenarios::stress`), each figure printed beside its bound and the
+//! (`studies::stress`), each figure printed beside its bound and the
 //! bound's reason, PASS or FAIL, and `stress.csv`.
 //!
 //! Cases: long horizon (hover under Δ at 1 kHz, every stepper, f32 and
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use scenarios::stress::{Check, Event};
+use studies::stress::{Check, Event};
 
 /// Options of `cargo xtask stress`.
 #[derive(Args)]
@@ -71,7 +71,7 @@ pub fn stress(a: StressArgs) -> Result<(), String> {
     }
     let want = |name: &str| a.only.as_deref().is_none_or(|o| name.contains(o));
     let mut case_start = None;
-    let checks = scenarios::stress::cases(a.quick, &want, a.horizon, &a.out, &mut |e| {
+    let checks = studies::stress::cases(a.quick, &want, a.horizon, &a.out, &mut |e| {
         print(e, &mut case_start)
     })
     .map_err(|e| e.to_string())?;

@@ -23,10 +23,10 @@ mod tests {
     /// The CLI adds what to change to the library's health finding.
     #[test]
     fn health_warnings_say_what_to_change() {
-        let mut s = scenarios::builtin::paper_flip();
+        let mut s = scenes::builtin::paper_flip();
         s.integrator.kind = "euler".into();
         s.integrator.dt = 0.002;
-        let out = scenarios::run(&s, Default::default()).unwrap();
+        let out = scenes::run(&s, Default::default()).unwrap();
         assert!(matches!(
             out.health()[..],
             [scenarios::Health::OffGroup { .. }]

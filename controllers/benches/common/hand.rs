@@ -1,7 +1,7 @@
 //! The paper's attitude and position laws written by hand on glam's own
 //! types, for f32 and f64: the baseline the generic code is measured
 //! against (`controllers/benches/update.rs`, and the closed-loop step in
-//! `scenarios/benches/step.rs`, which includes this file). Same formulas,
+//! `studies/benches/step.rs`, which includes this file). Same formulas,
 //! branches and output as `controllers`, for the paper's gains and
 //! quadrotor as constants.
 #![allow(dead_code)]

@@ -367,41 +367,87 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::builtin;
-    use lie::GlamF64;
+    use controllers::{
+        AttitudeGains, AttitudeMode, AttitudeThrust, HoldAttitude, HoldPosition, RigidBodyParams,
+    };
+    use dynamics::{Multirotor, MultirotorParams, Quadrotor, paper};
+    use integrators::{IntegratorKind, Stepper, StepperConfig};
+    use lie::{GlamF64, Rotation, So3Mat};
 
-    /// The final state and step count of `scene` in an array of `N`
-    /// extra states.
-    fn at_size<const N: usize>(scene: &crate::Scene) -> (RigidBodyState<GlamF64>, u64) {
-        let b = crate::builder::<GlamF64>(scene).unwrap();
+    type B = GlamF64;
+
+    /// Level attitude held from a 40° tilt, with the integral term on (3
+    /// integral slots), by dopri at tolerance 1e-6.
+    fn tilted(
+        vehicle: Box<dyn Vehicle<B>>,
+        mass: f64,
+        inertia: [f64; 3],
+    ) -> SimulationBuilder<'static, B, Stepper<B>> {
+        let params = RigidBodyParams::<B>::diagonal(mass, inertia, paper::GRAVITY);
+        let mode = AttitudeMode::<B, _, HoldPosition<B>>::new(
+            params,
+            AttitudeGains::uniform(
+                0.65 * inertia[0] / 0.43e-2,
+                0.11 * inertia[0] / 0.43e-2,
+                0.05,
+                0.8,
+            ),
+            HoldAttitude::new(So3Mat::<B>::identity()),
+            AttitudeThrust::Constant(mass * paper::GRAVITY),
+        );
+        let mut start = RigidBodyState::<B>::at_rest();
+        start.r = So3Mat::<B>::exp(B::vec3(0.7, -0.3, 0.2)).matrix();
+        let dopri = Stepper::<B>::new(IntegratorKind::Dopri, StepperConfig { tol: 1e-6 });
+        Simulation::<B>::builder(vehicle)
+            .mode(mode, Until::Never)
+            .initial(start)
+            .duration(2.0)
+            .dt(0.02)
+            .integrator(dopri)
+    }
+
+    /// The final state and step count of `b` in an array of `N` extra
+    /// states.
+    fn at_size<const N: usize>(
+        b: SimulationBuilder<'static, B, Stepper<B>>,
+    ) -> (RigidBodyState<B>, u64) {
         let at = b.layout();
         let mut e = b.engine::<N>(at).unwrap();
-        e.advance_to_with(scene.duration, RunOptions::default())
-            .unwrap();
+        e.advance_to_with(2.0, RunOptions::default()).unwrap();
         let body = *e.state().body;
         (body, Box::new(e).finish().unwrap().steps)
     }
 
     /// Dormand–Prince's step sizes come from an error norm over the slots
-    /// in use: the same scene in an array with idle slots (attitude mode:
-    /// 3 integrals; the RotorPy vehicle: 6 integrals and 4 motor speeds)
-    /// takes the same steps to the same state, bit for bit, so the size
-    /// the builder picks never shows in a result. (Averaged over all `N`
-    /// slots, the idle zeros diluted the norm: the whole built-in figure
-    /// eight in wind took 22 969 steps at `N = 16` against 23 306 at
-    /// `N = 10`.)
+    /// in use: the same run in an array with idle slots (the paper's
+    /// quadrotor: 3 integrals; RotorPy's Hummingbird: 3 integrals and 4
+    /// motor speeds) takes the same steps to the same state, bit for bit,
+    /// so the size the builder picks never shows in a result. (Averaged
+    /// over all `N` slots, the idle zeros diluted the norm: the built-in
+    /// figure eight in wind took 22 969 steps at `N = 16` against 23 306
+    /// at `N = 10`.)
     #[test]
     fn idle_extra_slots_do_not_change_a_dopri_run() {
-        let mut attitude = builtin::paper_attitude_experiment();
-        let mut wind = builtin::figure_eight_wind();
-        for (s, t) in [(&mut attitude, 2.0), (&mut wind, 3.0)] {
-            s.integrator.kind = "dopri".into();
-            s.duration = t;
-        }
-        let a3 = at_size::<3>(&attitude);
-        assert_eq!(a3, at_size::<6>(&attitude), "attitude, N = 3 against 6");
-        assert_eq!(a3, at_size::<16>(&attitude), "attitude, N = 3 against 16");
-        let w10 = at_size::<10>(&wind);
-        assert_eq!(w10, at_size::<16>(&wind), "wind, N = 10 against 16");
+        let quad = || {
+            tilted(
+                Box::new(Quadrotor::<B>::paper()),
+                paper::MASS,
+                paper::INERTIA,
+            )
+        };
+        let a3 = at_size::<3>(quad());
+        assert!(
+            a3.1 > 10,
+            "an adaptive run of more than a few steps: {}",
+            a3.1
+        );
+        assert_eq!(a3, at_size::<6>(quad()), "quadrotor, N = 3 against 6");
+        assert_eq!(a3, at_size::<16>(quad()), "quadrotor, N = 3 against 16");
+        let hb = || {
+            let v = Multirotor::<B>::new(MultirotorParams::hummingbird()).unwrap();
+            tilted(Box::new(v), 0.5, [3.65e-3, 3.68e-3, 7.03e-3])
+        };
+        let w7 = at_size::<7>(hb());
+        assert_eq!(w7, at_size::<16>(hb()), "hummingbird, N = 7 against 16");
     }
 }

@@ -1,5 +1,7 @@
 //! Why a run could not be built or could not go on.
 
+use std::sync::Arc;
+
 use super::OutputError;
 
 /// Why a run could not be built or could not go on. Each variant keeps its
@@ -18,8 +20,9 @@ pub enum SimError {
     CustomVehicle {
         /// Its kind, as the scene names it.
         kind: String,
-        /// What its builder said.
-        message: String,
+        /// What its builder returned, kept as it was (also
+        /// [`std::error::Error::source`]).
+        source: BuildError,
     },
     /// A setting of the [`SimulationBuilder`](super::SimulationBuilder) (or an argument of
     /// [`Simulation::advance_to`](super::Simulation::advance_to)) is invalid.
@@ -63,7 +66,7 @@ pub enum SimError {
     },
     /// A sink could not write (disk full, …).
     Output(OutputError),
-    /// A derivative of a gradient run ([`crate::sensitivity`]) turned
+    /// A derivative of a gradient run (the `sensitivity` module of `geopid-studies`) turned
     /// non-finite while the value stayed finite.
     NonFiniteDerivative {
         /// The seeded parameter it is taken with respect to, e.g.
@@ -74,6 +77,36 @@ pub enum SimError {
         /// The state component, e.g. `"omega[1]"`.
         component: String,
     },
+}
+
+/// The error a program's own vehicle builder returned, of whatever type:
+/// shared, so that a [`SimError`] stays `Clone`; two are equal when they
+/// are the same error or say the same.
+#[derive(Clone, Debug)]
+pub struct BuildError(Arc<dyn std::error::Error + Send + Sync>);
+
+impl BuildError {
+    /// Keeps `e`.
+    pub fn new(e: Box<dyn std::error::Error + Send + Sync>) -> Self {
+        Self(Arc::from(e))
+    }
+
+    /// The error as the builder returned it, to downcast to its type.
+    pub fn get(&self) -> &(dyn std::error::Error + Send + Sync + 'static) {
+        &*self.0
+    }
+}
+
+impl PartialEq for BuildError {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0) || self.0.to_string() == other.0.to_string()
+    }
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
 }
 
 /// A builder setting's error.
@@ -127,8 +160,8 @@ impl std::fmt::Display for SimError {
             SimError::Scene(e) => write!(f, "scene: {e}"),
             SimError::Integrator(e) => write!(f, "scene: {e}"),
             SimError::Vehicle(e) => write!(f, "vehicle: {e}"),
-            SimError::CustomVehicle { kind, message } => {
-                write!(f, "scene: vehicle `{kind}`: {message}")
+            SimError::CustomVehicle { kind, source } => {
+                write!(f, "scene: vehicle `{kind}`: {source}")
             }
             SimError::Setting { field, message } => write!(f, "simulation `{field}`: {message}"),
             SimError::Layout {
@@ -188,8 +221,8 @@ impl std::error::Error for SimError {
             SimError::Step { source, .. } => Some(source),
             SimError::Control { source, .. } => Some(source),
             SimError::Output(e) => Some(e),
-            SimError::CustomVehicle { .. }
-            | SimError::Setting { .. }
+            SimError::CustomVehicle { source, .. } => Some(source.get()),
+            SimError::Setting { .. }
             | SimError::Layout { .. }
             | SimError::NonFiniteDerivative { .. } => None,
         }

@@ -46,9 +46,10 @@ mod sink;
 mod stepping;
 pub use builder::SimulationBuilder;
 use error::bad;
-pub use error::{SceneError, SimError};
+pub use error::{BuildError, SceneError, SimError};
 pub use output_types::{
-    Divergence, DivergenceGuard, Health, RunOutput, Sample, SwitchRecord, Termination,
+    BreakpointCrossing, Divergence, DivergenceGuard, Health, PsiRange, RunOutput, Sample,
+    SwitchRecord, Termination,
 };
 pub use sink::{OutputError, Sink, Tee, Watched};
 
@@ -58,6 +59,16 @@ use controllers::{Mode, ModeOutput};
 use dynamics::{RigidBodyState, Vehicle, Wind};
 use integrators::{Integrator, IntegratorKind, State, Stepper, StepperConfig};
 use lie::{Backend, S};
+
+/// The extra states of a [`Simulation`] ([`Simulation::layout`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct StateLayout {
+    /// Integral states the plan's modes use (the largest
+    /// [`Mode::integrals`] count).
+    pub integrals: usize,
+    /// Internal states the vehicle declares.
+    pub vehicle_states: usize,
+}
 
 /// Options of one run.
 pub struct RunOptions<'a> {
@@ -318,22 +329,15 @@ impl<B: Backend> Simulation<'_, B> {
     /// sim.advance_to(1.5)?;
     /// // Level until the kick (Ψ = 0), tilted by it (the largest Ψ over
     /// // every step so far).
-    /// let psi_peak = sim.output().psi_range.1;
+    /// let psi_peak = sim.output().psi_range.max;
     /// assert!(psi_peak > 1e-4, "the kick tilted it: Ψ = {psi_peak}");
     /// // The attitude loop brings it back level.
-    /// let out = sim.finish_run()?;
+    /// let out = sim.run(Default::default())?;
     /// assert!(out.last.psi < 1e-9, "Ψ(6 s) = {}", out.last.psi);
     /// # Ok::<(), scenarios::SimError>(())
     /// ```
     pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
         self.engine.advance_to_with(t, opts)
-    }
-
-    /// Advances to the end of the run and returns its output.
-    pub fn finish_run(mut self) -> Result<RunOutput, SimError> {
-        let end = self.duration();
-        self.advance_to(end)?;
-        self.finish()
     }
 
     /// Ends the run where it is and returns its output. A run not yet at
@@ -388,9 +392,9 @@ impl<B: Backend> Simulation<'_, B> {
         self.engine.state_mut()
     }
 
-    /// `(m, n)`: how many integral states the plan's modes use and how
-    /// many internal states the vehicle has.
-    pub fn layout(&self) -> (usize, usize) {
+    /// How many integral states the plan's modes use and how many
+    /// internal states the vehicle has.
+    pub fn layout(&self) -> StateLayout {
         self.engine.layout()
     }
 }
@@ -406,7 +410,7 @@ trait Run<B: Backend> {
     fn termination(&self) -> Option<Termination>;
     fn state(&self) -> SimState<'_, B>;
     fn state_mut(&mut self) -> SimStateMut<'_, B>;
-    fn layout(&self) -> (usize, usize);
+    fn layout(&self) -> StateLayout;
 }
 
 impl<B: Backend, const N: usize, I: Integrator<B, N>> Run<B> for Engine<'_, B, N, I> {
@@ -473,7 +477,10 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Run<B> for Engine<'_, B, N
         }
     }
 
-    fn layout(&self) -> (usize, usize) {
-        (self.layout.integrals, self.layout.vehicle_states)
+    fn layout(&self) -> StateLayout {
+        StateLayout {
+            integrals: self.layout.integrals,
+            vehicle_states: self.layout.vehicle_states,
+        }
     }
 }

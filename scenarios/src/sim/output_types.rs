@@ -1,7 +1,9 @@
 //! What a run returns: samples, switches, the figures, how it ended.
 
-/// One recorded sample, in f64 whatever the simulation scalar.
+/// One recorded sample, in f64 whatever the simulation scalar. New
+/// fields may be added (hence `#[non_exhaustive]`).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Sample {
     /// Time, s.
     pub t: f64,
@@ -48,8 +50,10 @@ pub struct Sample {
 /// A mode switch: its time, s, and the segments left and entered.
 pub type SwitchRecord = controllers::Switch<f64>;
 
-/// What a run produced.
+/// What a run produced. New figures may be added (hence
+/// `#[non_exhaustive]`): read the fields, never build one.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct RunOutput {
     /// Samples every `record.sample` seconds, plus t = 0 and the end,
     /// taken from the steps' continuous extension (the steps do not land
@@ -61,8 +65,8 @@ pub struct RunOutput {
     pub mode_names: Vec<&'static str>,
     /// Located breakpoint crossings (sat′: e_i crossing ±σ).
     pub events: usize,
-    /// Their times and breakpoint indices (the component of e_i).
-    pub event_times: Vec<(f64, usize)>,
+    /// Each located crossing: its time and the component of e_i.
+    pub event_times: Vec<BreakpointCrossing>,
     /// Integrator steps (accepted substeps for dopri and halved LGVI
     /// steps, redone steps at events included).
     pub steps: u64,
@@ -84,7 +88,7 @@ pub struct RunOutput {
     pub max_orthogonality_error: f64,
     /// Smallest and largest Ψ over the same states (in [0, 2] for a
     /// rotation).
-    pub psi_range: (f64, f64),
+    pub psi_range: PsiRange,
     /// The machine ε of the simulation's scalar (what the health bounds
     /// scale with).
     pub epsilon: f64,
@@ -95,8 +99,45 @@ pub struct RunOutput {
     pub last: Sample,
 }
 
+/// A located breakpoint crossing (the paper's sat′: a component of e_i
+/// crossing ±σ).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct BreakpointCrossing {
+    /// The located time, s.
+    pub t: f64,
+    /// The component of e_i that crossed (0, 1 or 2).
+    pub component: usize,
+}
+
+/// The smallest and largest Ψ a run passed through (`min > max` before
+/// any state was seen).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PsiRange {
+    /// The smallest Ψ.
+    pub min: f64,
+    /// The largest Ψ.
+    pub max: f64,
+}
+
+impl PsiRange {
+    /// The range of no state yet: `[+∞, −∞]`, which any Ψ widens.
+    pub const EMPTY: PsiRange = PsiRange {
+        min: f64::INFINITY,
+        max: f64::NEG_INFINITY,
+    };
+
+    /// This range widened to hold `psi`.
+    pub fn with(self, psi: f64) -> PsiRange {
+        PsiRange {
+            min: self.min.min(psi),
+            max: self.max.max(psi),
+        }
+    }
+}
+
 /// A sign that a run's numbers cannot be trusted ([`RunOutput::health`]).
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Health {
     /// ‖RᵀR − I‖_F passed `bound` (1e-6 in f64, 1e-3 in f32: far above
     /// the rounding a run accumulates, far below what changes a result
@@ -111,7 +152,7 @@ pub enum Health {
     /// explain: R is not a rotation any more.
     PsiOutOfRange {
         /// Smallest and largest Ψ.
-        range: (f64, f64),
+        range: PsiRange,
     },
 }
 
@@ -125,7 +166,7 @@ impl std::fmt::Display for Health {
             Health::PsiOutOfRange { range } => write!(
                 f,
                 "Ψ left [0, 2] (range [{:.3e}, {:.3e}]): not a rotation any more",
-                range.0, range.1
+                range.min, range.max
             ),
         }
     }
@@ -147,7 +188,7 @@ impl RunOutput {
         // e = ‖RᵀR − I‖ moves it by up to ~e, and rounding by ~10 ε. Only
         // a departure from [0, 2] beyond that says R is not a rotation.
         let slack = 10.0 * self.epsilon + e;
-        let (lo, hi) = self.psi_range;
+        let PsiRange { min: lo, max: hi } = self.psi_range;
         if lo.is_nan() || hi.is_nan() || lo < -slack || hi > 2.0 + slack {
             w.push(Health::PsiOutOfRange {
                 range: self.psi_range,
@@ -179,8 +220,10 @@ impl RunOutput {
     }
 }
 
-/// How a run ended.
+/// How a run ended. New reasons may be added (hence `#[non_exhaustive]`):
+/// a match needs a `_` arm.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Termination {
     /// It ran to its duration.
     Completed,
@@ -210,6 +253,7 @@ pub enum Termination {
 
 /// Which limit of a [`DivergenceGuard`](super::DivergenceGuard) a run passed.
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Divergence {
     /// |Ω| passed [`DivergenceGuard::omega`](super::DivergenceGuard::omega); the value, rad/s.
     Omega(f64),

@@ -57,7 +57,7 @@ fn fold(out: &mut RunOutput, thrust: f64, psi: f64, ortho: f64, rotors: impl Ite
     } else {
         out.max_orthogonality_error.max(ortho)
     };
-    out.psi_range = (out.psi_range.0.min(psi), out.psi_range.1.max(psi));
+    out.psi_range = out.psi_range.with(psi);
 }
 
 /// The rotor thrusts that command `c` asks of the vehicle in state `y`

@@ -33,8 +33,7 @@ impl std::error::Error for OutputError {}
 /// reported before the sample taken at its instant.
 ///
 /// ```
-/// use scenarios::output::{OutputError, Sink};
-/// use scenarios::{RunOptions, Sample, SwitchRecord};
+/// use scenarios::{OutputError, RunOptions, Sample, Sink, SwitchRecord};
 ///
 /// /// Keeps the largest Ψ after the switch, nothing else.
 /// #[derive(Default)]
@@ -51,9 +50,9 @@ impl std::error::Error for OutputError {}
 ///     }
 /// }
 /// let mut sink = PeakAfterSwitch::default();
-/// let mut scene = scenarios::builtin::paper_flip();
+/// let mut scene = scenes::builtin::paper_flip();
 /// scene.duration = 1.0;
-/// let out = scenarios::run(&scene, RunOptions { record: false, sink: Some(&mut sink), ..Default::default() })?;
+/// let out = scenes::run(&scene, RunOptions { record: false, sink: Some(&mut sink), ..Default::default() })?;
 /// assert!(out.samples.is_empty(), "nothing kept in memory");
 /// assert!(sink.peak > 0.5, "the switch to position mode jumps Ψ: {}", sink.peak);
 /// # Ok::<(), scenarios::SimError>(())

@@ -23,8 +23,8 @@ use super::events::{
 use super::grid::Grid;
 use super::record::{empty_sample, sample, track, track_figures};
 use super::{
-    Control, Divergence, DivergenceGuard, Engine, RunOptions, RunOutput, Segment, SimError,
-    Termination, Until,
+    BreakpointCrossing, Control, Divergence, DivergenceGuard, Engine, PsiRange, RunOptions,
+    RunOutput, Segment, SimError, Termination, Until,
 };
 
 /// After the step that follows a located crossing: the law picks its
@@ -483,7 +483,7 @@ fn empty_output(mode_names: Vec<&'static str>) -> RunOutput {
         termination: Termination::Interrupted { t: 0.0 },
         epsilon: f64::EPSILON,
         max_orthogonality_error: 0.0,
-        psi_range: (f64::INFINITY, f64::NEG_INFINITY),
+        psi_range: PsiRange::EMPTY,
         last: empty_sample(),
     }
 }
@@ -683,7 +683,10 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
         out.events += 1;
-        out.event_times.push((tc, c.index));
+        out.event_times.push(BreakpointCrossing {
+            t: tc,
+            component: c.index,
+        });
         Ok((tc, split.phase))
     }
 

@@ -53,7 +53,7 @@ pub fn lanes_table(raw: &[(String, f64)]) -> String {
 /// rates, position and velocity; integrals zero).
 fn scene<S: Backend>(i: usize) -> State<S, 6> {
     State::new(
-        scenarios::montecarlo::Setup::default()
+        studies::montecarlo::Setup::default()
             .initial(i as u64)
             .body::<S>(),
     )
