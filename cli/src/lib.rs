@@ -83,7 +83,7 @@ impl Command {
 #[non_exhaustive]
 pub enum Error {
     /// The scene failed to load or validate, or an option made it invalid.
-    Scene(scenarios::SceneError),
+    Scene(scenes::SceneError),
     /// An output could not be created or written.
     Output(logs::OutputError),
     /// Two outputs name the same file, or an output is the scene file.
@@ -94,9 +94,9 @@ pub enum Error {
     Run {
         /// The scene's name.
         scene: String,
-        /// The engine's error (boxed: it is large, and this is the
-        /// exceptional path).
-        source: Box<scenarios::SimError>,
+        /// The scene layer's error, or the engine's inside it (boxed: it
+        /// is large, and this is the exceptional path).
+        source: Box<scenes::Error>,
         /// Until when the outputs hold the run, when they streamed.
         held_until: Option<f64>,
     },
@@ -124,6 +124,18 @@ impl Error {
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Scene(_) | Error::Output(_) | Error::Path(_) | Error::Usage(_) => 2,
+            // A scene that fails only when built (an unknown integrator, a
+            // vehicle kind's parameter) is still what the user asked.
+            Error::Run { source, .. }
+                if matches!(
+                    **source,
+                    scenes::Error::Scene(_)
+                        | scenes::Error::Integrator(_)
+                        | scenes::Error::CustomVehicle { .. }
+                ) =>
+            {
+                2
+            }
             _ => 1,
         }
     }
@@ -175,8 +187,8 @@ impl std::error::Error for Error {
     }
 }
 
-impl From<scenarios::SceneError> for Error {
-    fn from(e: scenarios::SceneError) -> Self {
+impl From<scenes::SceneError> for Error {
+    fn from(e: scenes::SceneError) -> Self {
         Error::Scene(e)
     }
 }

@@ -318,7 +318,7 @@ pub fn montecarlo(a: McArgs) -> Result<(), String> {
     let setup = setup_from_args(&a);
     setup.validate().map_err(|e| match e {
         // The library names the setting; the command line spells it as a flag.
-        scenarios::SimError::Setting { field, message } => {
+        scenes::Error::Run(scenarios::SimError::Setting { field, message }) => {
             format!("--{} {message}", field.replace('_', "-"))
         }
         e => e.to_string(),

@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use scenarios::{RunOptions, RunOutput, SceneError, SimError};
+use scenarios::{RunOptions, RunOutput, SimError};
+use scenes::SceneError;
 use scenes::scene::{BackendKind, Scalar};
 use scenes::{Scene, builtin};
 
@@ -108,7 +109,7 @@ pub fn run_scene_with(
     record: bool,
     sink: Option<&mut dyn logs::Sink>,
     cancel: Option<&AtomicBool>,
-) -> Result<RunOutput, SimError> {
+) -> Result<RunOutput, scenes::Error> {
     let est_steps = scene.estimated_steps();
     let bar = (est_steps > 2e5)
         .then(|| crate::progress(1000, "{bar:40} {percent:>3}% {msg} {elapsed}<{eta}"));
@@ -166,7 +167,7 @@ pub fn run_scene_with(
 /// and the status (0; 130/143 after SIGINT/SIGTERM; 1 after an error).
 fn outcome(
     scene: &Scene,
-    result: &Result<RunOutput, SimError>,
+    result: &Result<RunOutput, scenes::Error>,
     last_t: Option<f64>,
     by_int: bool,
     by_term: bool,
@@ -312,7 +313,7 @@ pub fn run(a: RunArgs) -> Result<u8, Error> {
     // A reader that closed its pipe (`--csv /dev/stdout | head`) ends the
     // run as a shell pipeline expects: quietly, with SIGPIPE's status.
     let pipe_closed = |e: &logs::OutputError| e.io_kind == Some(std::io::ErrorKind::BrokenPipe);
-    if matches!(&result, Err(SimError::Output(e)) if pipe_closed(e))
+    if matches!(&result, Err(scenes::Error::Run(SimError::Output(e))) if pipe_closed(e))
         || matches!(&csv_done, Some(Err(e)) if pipe_closed(e))
         || matches!(&mcap_done, Some(Err(e)) if pipe_closed(e))
     {

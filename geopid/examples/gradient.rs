@@ -5,17 +5,17 @@
 //! `cargo run -p geopid --example gradient`
 
 use lie::{Dual, NalgebraF64};
-use scenarios::SimError;
+use scenes::Error;
 use scenes::{Registry, Scene, builtin};
 use studies::sensitivity;
 
-fn final_height(scene: &Scene) -> Result<f64, SimError> {
+fn final_height(scene: &Scene) -> Result<f64, Error> {
     let mut sim = Registry::new().builder::<NalgebraF64>(scene)?.build()?;
     sim.advance_to(scene.duration)?;
     Ok(sim.state().body.x[2])
 }
 
-fn main() -> Result<(), SimError> {
+fn main() -> Result<(), Error> {
     let scene = builtin::paper_flip();
     let names = ["gains.k_x", "gains.k_v", "gains.k_i"];
     let g = sensitivity::gradient(&Registry::new(), &scene, names, scene.duration, |_, s| {

@@ -12,7 +12,8 @@ use controllers::{
 use dynamics::paper;
 use dynamics::{Hexarotor, RigidBodyState};
 use lie::{GlamF64, Real, Rotation, So3Quat};
-use scenarios::{DivergenceGuard, SimError, Simulation, Until};
+use scenarios::{DivergenceGuard, Simulation, Until};
+use scenes::Error;
 use studies::metrics::norm;
 use studies::montecarlo::{Study, Summary, in_ball, shoemake};
 
@@ -24,7 +25,7 @@ struct Draw {
     omega: [f64; 3],
 }
 
-fn main() -> Result<(), SimError> {
+fn main() -> Result<(), Error> {
     let study = Study::new(
         2026,
         1.0,

@@ -8,7 +8,8 @@
 
 use dynamics::{DrydenSpec, DrydenWind, RigidBodyState};
 use lie::{NalgebraF64, Real};
-use scenarios::{DivergenceGuard, SimError, Simulation, Until};
+use scenarios::{DivergenceGuard, Simulation, Until};
+use scenes::Error;
 use scenes::{Overrides, Scene};
 use studies::montecarlo::rand_core::Rng;
 use studies::montecarlo::{Study, Summary, in_ball};
@@ -22,7 +23,7 @@ struct Draw {
 }
 
 /// Runs the study on `scene` (its vehicle, plan and gains) for `indices`.
-fn run(scene: Scene, indices: &[u64]) -> Result<Summary, SimError> {
+fn run(scene: Scene, indices: &[u64]) -> Result<Summary, Error> {
     let hover = [0.0, 0.0, -1.0];
     let study = Study::new(
         7,
@@ -43,10 +44,7 @@ fn run(scene: Scene, indices: &[u64]) -> Result<Summary, SimError> {
                 seed: d.seed,
                 ..DrydenSpec::gusty()
             })
-            .map_err(|e| SimError::Setting {
-                field: "wind",
-                message: e.to_string(),
-            })?;
+            .map_err(|e| Error::setting("wind", e.to_string()))?;
             let mut start = RigidBodyState::<B>::at_rest();
             start.x = B::vec3(
                 hover[0] + d.offset[0],

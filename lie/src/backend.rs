@@ -410,4 +410,15 @@ pub mod ops {
         let cof = B::mat3_from_cols(B::cross(c1, c2), B::cross(c2, c0), B::cross(c0, c1));
         Some(B::mat3_transpose(cof) * (S::<B>::one() / d))
     }
+    /// A vector's components as f64 (exact for f32 and f64; a dual
+    /// number's value part), for output and comparison.
+    #[inline]
+    pub fn vec3_f64<B: Backend>(v: V3<B>) -> [f64; 3] {
+        B::vec3_to_array(v).map(|c| c.to_f64_lossless())
+    }
+    /// A matrix's elements as f64, indexed `[row][col]` (as [`vec3_f64`]).
+    #[inline]
+    pub fn mat3_f64<B: Backend>(m: M3<B>) -> [[f64; 3]; 3] {
+        elems::<B>(m).map(|r| r.map(|c| c.to_f64_lossless()))
+    }
 }

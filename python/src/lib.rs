@@ -5,7 +5,8 @@
 
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use scenarios::{SceneError as RsSceneError, SimError};
+use scenarios::SimError;
+use scenes::{Error as RsError, SceneError as RsSceneError};
 
 mod arrays;
 mod control;
@@ -66,19 +67,18 @@ pub(crate) fn scene_error(py: Python<'_>, e: &RsSceneError) -> PyErr {
 /// as `SceneError`, bad settings as `ValueError` (with `field`), output
 /// errors as `OSError`, and step and control failures and non-finite
 /// derivatives as `SimulationError` with `t`.
-pub(crate) fn sim_error(py: Python<'_>, e: &SimError) -> PyErr {
+pub(crate) fn sim_error(py: Python<'_>, e: &RsError) -> PyErr {
     let text = e.to_string();
     match e {
-        SimError::Scene(s) => scene_error(py, s),
-        SimError::Setting { field, .. } => {
+        RsError::Scene(s) => scene_error(py, s),
+        RsError::Run(SimError::Setting { field, .. }) => {
             let f = field.into_pyobject(py).map(|o| o.into_any().unbind());
             let attrs: Vec<_> = f.ok().map(|f| ("field", f)).into_iter().collect();
             with_attrs(py, PyValueError::new_err(text), &attrs)
         }
-        SimError::Output(_) => PyOSError::new_err(text),
-        SimError::Step { t, .. }
-        | SimError::Control { t, .. }
-        | SimError::NonFiniteDerivative { t, .. } => {
+        RsError::Run(SimError::Output(_)) => PyOSError::new_err(text),
+        RsError::Run(SimError::Step { t, .. } | SimError::Control { t, .. })
+        | RsError::NonFiniteDerivative { t, .. } => {
             let t = t.into_pyobject(py).map(|o| o.into_any().unbind());
             let attrs: Vec<_> = t.ok().map(|t| ("t", t)).into_iter().collect();
             with_attrs(py, SimulationError::new_err(text), &attrs)

@@ -197,9 +197,7 @@ pub(crate) fn run<'py>(
     if let Some(e) = cell.lock().unwrap_or_else(|p| p.into_inner()).take() {
         return Err(e);
     }
-    let written = |r: Result<u64, logs::OutputError>| {
-        r.map_err(|e| sim_error(py, &scenarios::SimError::Output(e)))
-    };
+    let written = |r: Result<u64, logs::OutputError>| r.map_err(|e| sim_error(py, &e.into()));
     if let Some(p) = &csv {
         written(logs::write_csv(p, &out))?;
     }

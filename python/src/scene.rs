@@ -4,8 +4,8 @@
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyTuple};
-use scenarios::SceneError as RsSceneError;
 use scenes::Overrides;
+use scenes::SceneError as RsSceneError;
 use scenes::scene::{BackendKind, Scalar};
 
 use crate::scene_error;

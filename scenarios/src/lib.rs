@@ -64,8 +64,8 @@ pub mod lanes;
 mod sim;
 
 pub use sim::{
-    BreakpointCrossing, BuildError, CAPACITIES, Condition, Control, Divergence, DivergenceGuard,
-    Health, OpenLoop, OutputError, PsiRange, RunOptions, RunOutput, Sample, SceneError, Segment,
-    SimError, SimState, SimStateMut, Simulation, SimulationBuilder, Sink, StateLayout,
-    SwitchRecord, Tee, Termination, Until, Watched,
+    BreakpointCrossing, CAPACITIES, Condition, Control, Divergence, DivergenceGuard, Health,
+    OpenLoop, OutputError, PsiRange, RunOptions, RunOutput, Sample, Segment, SimError, SimState,
+    SimStateMut, Simulation, SimulationBuilder, Sink, StateLayout, SwitchRecord, Tee, Termination,
+    Until, Watched,
 };

@@ -29,12 +29,14 @@
 //! | [`reference`](mod@reference) | the references a scene names, with their analytic derivatives |
 //! | `registry` | [`Registry`]: vehicle kinds, and a [`Scene`] turned into a [`scenarios::Simulation`] |
 //! | `scene_simulation` | [`SceneSimulation`]: a scene's simulation whatever its scalar and backend |
+//! | `error` | [`Error`]: why a scene could not be loaded, built or run; [`SceneError`], [`BuildError`] |
 //! | `overrides` | [`Overrides`]: command-line style `key=value` changes to a scene |
 //! | `run_report` | [`RunReport`]: a run's summary as text |
 
 #![deny(missing_docs)]
 
 pub mod builtin;
+mod error;
 mod overrides;
 pub mod reference;
 mod registry;
@@ -42,6 +44,7 @@ mod run_report;
 pub mod scene;
 mod scene_simulation;
 
+pub use error::{BuildError, Error};
 pub use overrides::Overrides;
 pub use registry::{
     FactoryError, PARAMETERS, PositionFn, Registry, SceneAttitude, ScenePosition, VehicleFactory,
@@ -55,22 +58,22 @@ pub use scene_simulation::{SceneSimulation, StateF64};
 pub use registry::{Seeds, builder_from, controller_gains, controller_params, gains};
 
 use lie::Backend;
-use scenarios::{RunOptions, RunOutput, SimError, SimulationBuilder};
+use scenarios::{RunOptions, RunOutput, SimulationBuilder};
 
 /// Runs `scene` with its scalar and backend (built-in vehicle kinds; a
 /// program's own kinds go through [`Registry::run`]).
-pub fn run(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
+pub fn run(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, Error> {
     Registry::new().run(scene, opts)
 }
 
 /// The simulation of `scene` on backend `B`, to build and step (built-in
 /// vehicle kinds; see [`Registry::builder`]).
-pub fn builder<B: Backend>(scene: &Scene) -> Result<SimulationBuilder<'static, B>, SimError> {
+pub fn builder<B: Backend>(scene: &Scene) -> Result<SimulationBuilder<'static, B>, Error> {
     Registry::new().builder::<B>(scene)
 }
 
 /// Runs `scene` on backend `B` (built-in vehicle kinds).
-pub fn run_generic<B: Backend>(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
+pub fn run_generic<B: Backend>(scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, Error> {
     Registry::new().run_generic::<B>(scene, opts)
 }
 

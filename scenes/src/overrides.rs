@@ -13,7 +13,7 @@ use crate::scene::{BackendKind, Scalar, Scene, SceneError, Timing};
 /// assert_eq!(fast.duration, 1.0);
 /// let bad = Overrides { dt: Some(-1.0), ..Default::default() }.apply(fast);
 /// assert_eq!(bad.unwrap_err().key.as_deref(), Some("integrator.dt"));
-/// # Ok::<(), scenarios::SceneError>(())
+/// # Ok::<(), scenes::SceneError>(())
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overrides {

@@ -23,7 +23,7 @@ use crate::scene::{
     AccelModel, AttitudeRef, BackendKind, GainsSpec, PositionRef, Scalar, Scene, ThrustSpec,
     Timing, VehicleKind,
 };
-use crate::{SceneError, builtin};
+use crate::{Error, SceneError, builtin};
 use scenarios::{
     Control, RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until,
 };
@@ -155,7 +155,7 @@ pub trait VehicleFactory: Send + Sync + 'static {
     /// The vehicle of `scene` (read `scene.vehicle`, its `params`, and
     /// `scene.disturbance`). An `Err` of any error type (a
     /// [`dynamics::DynamicsError`] with `?`, or a message naming the
-    /// parameter and value at fault) becomes [`SimError::CustomVehicle`]
+    /// parameter and value at fault) becomes [`Error::CustomVehicle`]
     /// naming the kind, with the error kept as its source.
     fn build<B: Backend>(&self, scene: &Scene) -> Result<Box<dyn Vehicle<B>>, FactoryError>;
 }
@@ -267,10 +267,7 @@ impl Registry {
     }
 
     /// The vehicle of `scene` on backend `B`.
-    pub fn build_vehicle<B: Backend>(
-        &self,
-        scene: &Scene,
-    ) -> Result<Box<dyn Vehicle<B>>, SimError> {
+    pub fn build_vehicle<B: Backend>(&self, scene: &Scene) -> Result<Box<dyn Vehicle<B>>, Error> {
         self.build_vehicle_seeded(scene, Seeds::NONE)
     }
 
@@ -280,28 +277,28 @@ impl Registry {
         &self,
         scene: &Scene,
         seeds: Seeds<'_>,
-    ) -> Result<Box<dyn Vehicle<B>>, SimError> {
+    ) -> Result<Box<dyn Vehicle<B>>, Error> {
         if let VehicleKind::Custom(name) = &scene.vehicle.kind {
             let build = self
                 .vehicles
                 .get(&(name.clone(), TypeId::of::<B>()))
                 .and_then(|b| b.downcast_ref::<Build<B>>())
                 .ok_or_else(|| {
-                    SimError::Scene(scene.check_kind(&self.kinds()).err().map_or_else(
+                    Error::Scene(scene.check_kind(&self.kinds()).err().map_or_else(
                         || SceneError::at_key("vehicle.kind", format!("vehicle kind `{name}`")),
                         |(k, m)| SceneError::at_key(k, m),
                     ))
                 })?;
-            return build(scene).map_err(|e| SimError::CustomVehicle {
+            return build(scene).map_err(|e| Error::CustomVehicle {
                 kind: name.clone(),
-                source: scenarios::BuildError::new(e),
+                source: crate::BuildError::new(e),
             });
         }
         build_vehicle_seeded::<B>(scene, seeds)
     }
 
     /// Runs `scene` with its scalar and backend.
-    pub fn run(&self, scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, SimError> {
+    pub fn run(&self, scene: &Scene, opts: RunOptions<'_>) -> Result<RunOutput, Error> {
         match (scene.scalar, scene.backend) {
             (Scalar::F64, BackendKind::Nalgebra) => self.run_generic::<NalgebraF64>(scene, opts),
             (Scalar::F64, BackendKind::Glam) => self.run_generic::<GlamF64>(scene, opts),
@@ -317,7 +314,7 @@ impl Registry {
     pub fn builder<B: Backend>(
         &self,
         scene: &Scene,
-    ) -> Result<SimulationBuilder<'static, B>, SimError> {
+    ) -> Result<SimulationBuilder<'static, B>, Error> {
         self.check(scene)?;
         let vehicle = self.build_vehicle::<B>(scene)?;
         let plan = plan::<B>(scene, vehicle.as_ref());
@@ -329,21 +326,22 @@ impl Registry {
         &self,
         scene: &Scene,
         opts: RunOptions<'_>,
-    ) -> Result<RunOutput, SimError> {
+    ) -> Result<RunOutput, Error> {
         self.check(scene)?;
         let (vehicle, plan) = self.parts::<B>(scene, None, Seeds::NONE)?;
         builder_from::<B>(scene, vehicle, plan, Seeds::NONE)?
             .build()?
             .run(opts)
+            .map_err(Error::Run)
     }
 
     /// `scene` validated, its vehicle kind built in or registered here.
     #[doc(hidden)]
-    pub fn check(&self, scene: &Scene) -> Result<(), SimError> {
+    pub fn check(&self, scene: &Scene) -> Result<(), Error> {
         scene
             .validate()
             .and_then(|()| scene.check_kind(&self.kinds()))
-            .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))
+            .map_err(|(k, msg)| Error::at_key(k, msg))
     }
 
     /// The vehicle and plan of a validated `scene`.
@@ -353,7 +351,7 @@ impl Registry {
         scene: &Scene,
         position: Option<&PositionFn>,
         seeds: Seeds<'_>,
-    ) -> Result<Parts<B>, SimError> {
+    ) -> Result<Parts<B>, Error> {
         let vehicle = self.build_vehicle_seeded::<B>(scene, seeds)?;
         let plan = plan_with::<B>(scene, vehicle.as_ref(), position, seeds);
         Ok((vehicle, plan))
@@ -370,12 +368,9 @@ pub fn builder_from<B: Backend>(
     vehicle: Box<dyn Vehicle<B>>,
     plan: Vec<Segment<'static, B>>,
     seeds: Seeds<'_>,
-) -> Result<SimulationBuilder<'static, B>, SimError> {
-    let kind: integrators::IntegratorKind = scene
-        .integrator
-        .kind
-        .parse()
-        .map_err(SimError::Integrator)?;
+) -> Result<SimulationBuilder<'static, B>, Error> {
+    let kind: integrators::IntegratorKind =
+        scene.integrator.kind.parse().map_err(Error::Integrator)?;
     let stepper = Stepper::<B>::new(
         kind,
         StepperConfig {
@@ -425,10 +420,7 @@ pub fn builder_from<B: Backend>(
         b = b.segment(seg);
     }
     if let Some(w) = &scene.wind {
-        b = b.wind(
-            w.build()
-                .map_err(|(k, msg)| SimError::Scene(SceneError::at_key(k, msg)))?,
-        );
+        b = b.wind(w.build().map_err(|(k, msg)| Error::at_key(k, msg))?);
     }
     Ok(b.warnings(warning))
 }
@@ -591,7 +583,7 @@ fn position_mode<B: Backend, P: controllers::PositionSource<B> + 'static>(
 
 /// Builds the built-in vehicle of a scene (a [`VehicleKind::Custom`] kind
 /// needs a [`Registry`]).
-pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, SimError> {
+pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, Error> {
     build_vehicle_seeded(scene, Seeds::NONE)
 }
 
@@ -600,12 +592,12 @@ pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, S
 fn build_vehicle_seeded<B: Backend>(
     scene: &Scene,
     seeds: Seeds<'_>,
-) -> Result<Box<dyn Vehicle<B>>, SimError> {
+) -> Result<Box<dyn Vehicle<B>>, Error> {
     let l = S::<B>::lit;
     let ve = &scene.vehicle;
     let [j0, j1, j2] = B::vec3_to_array(seeds.vec::<B>("vehicle.inertia", ve.inertia));
     let j = ops::diag::<B>(j0, j1, j2);
-    let err = SimError::Vehicle;
+    let err = |e| Error::Run(SimError::Vehicle(e));
     let (mass, gravity) = (
         seeds.lift::<B>("vehicle.mass", ve.mass),
         seeds.lift::<B>("vehicle.gravity", ve.gravity),
@@ -646,7 +638,7 @@ fn build_vehicle_seeded<B: Backend>(
             Box::new(multi)
         }
         VehicleKind::Custom(name) => {
-            return Err(SimError::Scene(SceneError::at_key(
+            return Err(Error::Scene(SceneError::at_key(
                 "vehicle.kind",
                 format!("vehicle kind `{name}` is not built in; register it with scenes::Registry"),
             )));

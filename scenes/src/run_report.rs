@@ -19,7 +19,7 @@ use scenarios::RunOutput;
 /// let text = scenes::RunReport::new(&scene, &out).to_string();
 /// assert!(text.starts_with("paper-flip — 0.5 s with"));
 /// assert!(text.contains("final: Ψ = "));
-/// # Ok::<(), scenarios::SimError>(())
+/// # Ok::<(), scenes::Error>(())
 /// ```
 pub struct RunReport<'a> {
     scene: &'a Scene,

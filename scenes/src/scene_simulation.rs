@@ -5,11 +5,12 @@
 use dynamics::RigidBodyState;
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation};
 
+use crate::Error;
 use crate::Registry;
 use crate::reference::{m, v};
 use crate::registry::{PositionFn, Seeds, builder_from};
 use crate::scene::{BackendKind, Scalar, Scene};
-use scenarios::{DivergenceGuard, RunOptions, RunOutput, SimError, Simulation, Termination};
+use scenarios::{DivergenceGuard, RunOptions, RunOutput, Simulation, Termination};
 
 /// A simulation's state in f64, whatever the scalar it runs in.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,40 +37,37 @@ pub struct StateF64 {
 
 /// What [`SceneSimulation`] needs of a `Simulation<B>`.
 trait Stepping {
-    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError>;
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), Error>;
     fn state(&self) -> StateF64;
-    fn set_state(&mut self, s: &StateF64) -> Result<(), SimError>;
+    fn set_state(&mut self, s: &StateF64) -> Result<(), Error>;
     fn output(&self) -> &RunOutput;
     fn termination(&self) -> Option<Termination>;
     fn time(&self) -> f64;
     fn duration(&self) -> f64;
-    fn finish(self: Box<Self>) -> Result<RunOutput, SimError>;
+    fn finish(self: Box<Self>) -> Result<RunOutput, Error>;
 }
 
-/// Every element finite, or a [`SimError::Setting`] naming the field.
-fn finite(field: &'static str, values: &[f64]) -> Result<(), SimError> {
+/// Every element finite, or a [`SimError::Setting`](scenarios::SimError::Setting) naming the field.
+fn finite(field: &'static str, values: &[f64]) -> Result<(), Error> {
     match values.iter().find(|v| !v.is_finite()) {
-        Some(v) => Err(SimError::Setting {
-            field,
-            message: format!("{v} is not finite"),
-        }),
+        Some(v) => Err(Error::setting(field, format!("{v} is not finite"))),
         None => Ok(()),
     }
 }
 
 impl<B: Backend> Stepping for Simulation<'static, B> {
-    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
-        Simulation::advance_to_with(self, t, opts)
+    fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), Error> {
+        Ok(Simulation::advance_to_with(self, t, opts)?)
     }
 
     fn state(&self) -> StateF64 {
         let s = Simulation::state(self);
         StateF64 {
             t: s.t,
-            x: f3::<B>(s.body.x),
-            v: f3::<B>(s.body.v),
-            r: fm::<B>(s.body.r),
-            omega: f3::<B>(s.body.omega),
+            x: lie::ops::vec3_f64::<B>(s.body.x),
+            v: lie::ops::vec3_f64::<B>(s.body.v),
+            r: lie::ops::mat3_f64::<B>(s.body.r),
+            omega: lie::ops::vec3_f64::<B>(s.body.omega),
             integrals: s.integrals.iter().map(|c| c.to_f64_lossless()).collect(),
             vehicle_states: s
                 .vehicle_states
@@ -81,7 +79,7 @@ impl<B: Backend> Stepping for Simulation<'static, B> {
         }
     }
 
-    fn set_state(&mut self, s: &StateF64) -> Result<(), SimError> {
+    fn set_state(&mut self, s: &StateF64) -> Result<(), Error> {
         let at = self.layout();
         let (ni, nv) = (at.integrals, at.vehicle_states);
         for (field, got, want) in [
@@ -89,10 +87,10 @@ impl<B: Backend> Stepping for Simulation<'static, B> {
             ("state.vehicle_states", s.vehicle_states.len(), nv),
         ] {
             if got != want {
-                return Err(SimError::Setting {
+                return Err(Error::setting(
                     field,
-                    message: format!("{got} values given, this simulation has {want}"),
-                });
+                    format!("{got} values given, this simulation has {want}"),
+                ));
             }
         }
         finite("state.x", &s.x)?;
@@ -134,8 +132,8 @@ impl<B: Backend> Stepping for Simulation<'static, B> {
         Simulation::duration(self)
     }
 
-    fn finish(self: Box<Self>) -> Result<RunOutput, SimError> {
-        Simulation::finish(*self)
+    fn finish(self: Box<Self>) -> Result<RunOutput, Error> {
+        Ok(Simulation::finish(*self)?)
     }
 }
 
@@ -173,12 +171,12 @@ impl std::fmt::Debug for SceneSimulation {
 impl SceneSimulation {
     /// The simulation of `scene` (built-in vehicle kinds; see
     /// [`Registry::simulation`]).
-    pub fn new(scene: &Scene) -> Result<Self, SimError> {
+    pub fn new(scene: &Scene) -> Result<Self, Error> {
         Registry::new().simulation(scene)
     }
 
     /// The simulation of `scene` stopped by `guard` when it diverges.
-    pub fn guarded(scene: &Scene, guard: DivergenceGuard) -> Result<Self, SimError> {
+    pub fn guarded(scene: &Scene, guard: DivergenceGuard) -> Result<Self, Error> {
         Registry::new().simulation_guarded(scene, guard)
     }
 
@@ -189,17 +187,17 @@ impl SceneSimulation {
         scene: &Scene,
         guard: DivergenceGuard,
         position: PositionFn,
-    ) -> Result<Self, SimError> {
+    ) -> Result<Self, Error> {
         Registry::new().simulation_with(scene, guard, Some(position))
     }
 
     /// Advances to `t`, recording samples ([`Simulation::advance_to`]).
-    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+    pub fn advance_to(&mut self, t: f64) -> Result<(), Error> {
         self.inner.advance_to_with(t, RunOptions::default())
     }
 
     /// [`Simulation::advance_to_with`].
-    pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), SimError> {
+    pub fn advance_to_with(&mut self, t: f64, opts: RunOptions<'_>) -> Result<(), Error> {
         self.inner.advance_to_with(t, opts)
     }
 
@@ -211,10 +209,10 @@ impl SceneSimulation {
     /// Replaces the body state, the integral register and the vehicle's
     /// states (`t`, `segment` and `mode` of `s` are not read: time moves
     /// only by stepping). Lengths must match [`SceneSimulation::state`]'s and
-    /// values be finite, or it is a [`SimError::Setting`] naming the field;
+    /// values be finite, or it is a [`SimError::Setting`](scenarios::SimError::Setting) naming the field;
     /// `r` is taken as given (a matrix off SO(3) is the caller's choice,
     /// which [`RunOutput::health`] reports).
-    pub fn set_state(&mut self, s: &StateF64) -> Result<(), SimError> {
+    pub fn set_state(&mut self, s: &StateF64) -> Result<(), Error> {
         self.inner.set_state(s)
     }
 
@@ -239,14 +237,14 @@ impl SceneSimulation {
     }
 
     /// Ends the run where it is ([`Simulation::finish`]).
-    pub fn finish(self) -> Result<RunOutput, SimError> {
+    pub fn finish(self) -> Result<RunOutput, Error> {
         self.inner.finish()
     }
 }
 
 impl Registry {
     /// [`SceneSimulation`] of `scene` with this registry's vehicle kinds.
-    pub fn simulation(&self, scene: &Scene) -> Result<SceneSimulation, SimError> {
+    pub fn simulation(&self, scene: &Scene) -> Result<SceneSimulation, Error> {
         self.simulation_guarded(scene, DivergenceGuard::default())
     }
 
@@ -256,7 +254,7 @@ impl Registry {
         &self,
         scene: &Scene,
         guard: DivergenceGuard,
-    ) -> Result<SceneSimulation, SimError> {
+    ) -> Result<SceneSimulation, Error> {
         self.simulation_with(scene, guard, None)
     }
 
@@ -267,13 +265,13 @@ impl Registry {
         scene: &Scene,
         guard: DivergenceGuard,
         position: Option<PositionFn>,
-    ) -> Result<SceneSimulation, SimError> {
+    ) -> Result<SceneSimulation, Error> {
         fn on<B: Backend>(
             r: &Registry,
             scene: &Scene,
             guard: DivergenceGuard,
             position: Option<&PositionFn>,
-        ) -> Result<Box<dyn Stepping>, SimError> {
+        ) -> Result<Box<dyn Stepping>, Error> {
             r.check(scene)?;
             let (vehicle, plan) = r.parts::<B>(scene, position, Seeds::NONE)?;
             Ok(Box::new(
@@ -298,16 +296,6 @@ impl Registry {
         };
         Ok(SceneSimulation { inner })
     }
-}
-
-/// A backend vector as f64 components (what [`StateF64`] holds).
-fn f3<B: Backend>(x: lie::V3<B>) -> [f64; 3] {
-    B::vec3_to_array(x).map(|c| c.to_f64_lossless())
-}
-
-/// A backend matrix as f64 rows.
-fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
-    lie::ops::elems::<B>(x).map(|r| r.map(|c| c.to_f64_lossless()))
 }
 
 #[cfg(test)]

@@ -37,9 +37,10 @@ use controllers::{
     VehicleState, check_gains, position_control,
 };
 use lie::{NalgebraF64 as B, So3Mat};
+use scenes::Error;
 
 use crate::metrics::norm;
-use scenarios::{RunOptions, RunOutput, SceneError, SimError};
+use scenarios::{RunOptions, RunOutput, SimError};
 use scenes::Scene;
 use scenes::scene::{GainsSpec, ModeKind};
 
@@ -58,7 +59,7 @@ pub struct SceneBounds {
 
 /// What a run of `scene` gives its controller, so that the conditions are
 /// checked on the numbers that fly.
-fn params(scene: &Scene) -> Result<RigidBodyParams<B>, SimError> {
+fn params(scene: &Scene) -> Result<RigidBodyParams<B>, Error> {
     let v = scenes::build_vehicle::<B>(scene)?;
     Ok(scenes::controller_params(
         scene,
@@ -73,14 +74,14 @@ fn gains_of(g: &GainsSpec) -> (PositionGains<B>, AttitudeGains<B>) {
 }
 
 /// B1, B2, δ_x of `scene` (module docs).
-pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds, SimError> {
+pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds, Error> {
     let p = params(scene)?;
     let (pg, ag) = gains_of(&scene.gains);
     let (m, g) = (scene.vehicle.mass, scene.vehicle.gravity);
     let j = lie::ops::elems::<B>(p.inertia);
     let tr = j[0][0] + j[1][1] + j[2][2];
     if (0..3).any(|i| (0..3).any(|k| i != k && j[i][k] != 0.0)) {
-        return Err(SimError::Scene(SceneError::at_key(
+        return Err(Error::Scene(scenes::SceneError::at_key(
             "vehicle.inertia",
             "the inertia is not diagonal; B2 needs its principal form".into(),
         )));
@@ -175,7 +176,7 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
 }
 
 /// The checker on `scene`'s vehicle with gains `g`.
-pub fn report(scene: &Scene, g: &GainsSpec, b: &GainBounds) -> Result<GainReport, SimError> {
+pub fn report(scene: &Scene, g: &GainsSpec, b: &GainBounds) -> Result<GainReport, Error> {
     let (pg, ag) = gains_of(g);
     Ok(check_gains(&params(scene)?, &pg, &ag, b))
 }
@@ -374,7 +375,7 @@ pub fn synthesize(
     sb: &SceneBounds,
     thrust_limit: Option<f64>,
     evaluations: usize,
-) -> Result<Synthesis, SimError> {
+) -> Result<Synthesis, Error> {
     let paper = scene.gains.clone();
     let (paper_peak, paper_run) = fly(scene, &paper).ok_or_else(|| SimError::Setting {
         field: "gains",
@@ -382,10 +383,10 @@ pub fn synthesize(
     })?;
     let limit = thrust_limit.unwrap_or(paper_peak);
     if !(limit.is_finite() && limit > 0.0) {
-        return Err(SimError::Setting {
+        return Err(Error::Run(SimError::Setting {
             field: "thrust_limit",
             message: format!("{limit}: must be finite and > 0"),
-        });
+        }));
     }
     let b = sb.bounds;
     let check = |p: &[f64; 9]| report(scene, &from_vec(&paper, p), &b);

@@ -18,7 +18,7 @@
 //! let rows = Setup::default().run(&[0, 1, 2, 3], Some(1), None)?;
 //! assert_eq!(rows.len(), 4);
 //! assert!(rows.iter().all(|r| r.converged));
-//! # Ok::<(), scenarios::SimError>(())
+//! # Ok::<(), scenes::Error>(())
 //! ```
 
 #![deny(missing_docs)]

@@ -1,7 +1,8 @@
 //! Metrics over recorded samples, and the work-precision sweep (run time
 //! and cost against error, every stepper over a range of step sizes).
 
-use scenarios::{RunOptions, RunOutput, Sample, SimError};
+use scenarios::{RunOptions, RunOutput, Sample};
+use scenes::Error;
 
 use scenes::{Scene, run};
 
@@ -134,7 +135,7 @@ pub struct Sweep {
     /// The points that ran, grid order.
     pub points: Vec<WorkPoint>,
     /// `(stepper, dt or tol, error)` of those that did not.
-    pub failures: Vec<(String, f64, SimError)>,
+    pub failures: Vec<(String, f64, Error)>,
 }
 
 /// The step sizes (dopri: tolerances) of [`work_precision`], per stepper.
@@ -148,7 +149,7 @@ pub const GRID: [(&str, &[f64]); 6] = [
 ];
 
 /// The run of `s` with the best wall time of three.
-fn timed(s: &Scene) -> Result<(RunOutput, f64), SimError> {
+fn timed(s: &Scene) -> Result<(RunOutput, f64), Error> {
     let mut best = f64::INFINITY;
     let mut last = None;
     for _ in 0..3 {
@@ -168,7 +169,7 @@ pub fn work_precision(
     base: &Scene,
     quick: bool,
     tick: &mut dyn FnMut(&WorkPoint),
-) -> Result<Sweep, SimError> {
+) -> Result<Sweep, Error> {
     let mut base = base.clone();
     base.record.sample = 0.1;
     let mut reference = base.clone();
@@ -235,7 +236,7 @@ pub fn flip_rk4_1ms() -> (Scene, Scene) {
 /// [`flip_rk4_1ms`]'s final-state error ([`final_state_error`]) against
 /// its reference, in f64 and in f32 (nalgebra; the backends agree to
 /// rounding).
-pub fn flip_rk4_errors() -> Result<[f64; 2], SimError> {
+pub fn flip_rk4_errors() -> Result<[f64; 2], Error> {
     let (mut flip, exact) = flip_rk4_1ms();
     let truth = run(&exact, RunOptions::default())?.last;
     let mut err = |scalar| {

@@ -10,6 +10,7 @@
 use crate::metrics::norm;
 use crate::metrics::{Difference, at, max_difference, max_ex_after, max_psi_after, nan_max};
 use scenarios::{RunOptions, RunOutput, SimError};
+use scenes::Error;
 use scenes::reference::rotation_f64;
 use scenes::{Scene, builtin};
 
@@ -40,7 +41,7 @@ pub enum SuiteError {
         /// The scene.
         scene: String,
         /// Its error.
-        source: SimError,
+        source: Error,
     },
     /// A sample the check reads was not recorded.
     Missing {
@@ -607,7 +608,7 @@ fn free_body(t: &mut Table<'_>) -> Result<(), SuiteError> {
     )
     .map_err(|e| SuiteError::Run {
         scene: s.name.clone(),
-        source: SimError::Vehicle(e),
+        source: Error::Run(SimError::Vehicle(e)),
     })?;
     let reference = dopri(&s)?;
     let l = &reference.last;

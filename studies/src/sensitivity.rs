@@ -29,7 +29,7 @@
 //!     },
 //! )?;
 //! assert!(g.gradient.iter().all(|d| d.is_finite()));
-//! # Ok::<(), scenarios::SimError>(())
+//! # Ok::<(), scenes::Error>(())
 //! ```
 //!
 //! Located events move with the parameters: a saturation crossing and a
@@ -40,9 +40,10 @@
 //! flight with those steps.
 
 use lie::{Backend, Dual, NalgebraDual, NalgebraF64, Real, S, SimdReal};
+use scenes::Error;
 
+use scenarios::SimError;
 use scenarios::{RunOptions, SimState, Simulation};
-use scenarios::{SceneError, SimError};
 use scenes::Registry;
 use scenes::scene::{Scene, VehicleKind};
 use scenes::{Seeds, builder_from};
@@ -71,10 +72,10 @@ pub struct Gradient<const K: usize> {
 /// an exact zero.
 ///
 /// Errors: a name that is not a parameter, named twice, or a vehicle
-/// parameter of a kind that does not read it ([`SimError::Scene`], naming
+/// parameter of a kind that does not read it ([`Error::Scene`], naming
 /// it); `every` not positive ([`SimError::Setting`]); a derivative of the
 /// state or the cost turning non-finite
-/// ([`SimError::NonFiniteDerivative`], naming the parameter, the time and
+/// ([`Error::NonFiniteDerivative`], naming the parameter, the time and
 /// the component); and whatever the run itself can fail with.
 pub fn gradient<const K: usize>(
     registry: &Registry,
@@ -82,13 +83,13 @@ pub fn gradient<const K: usize>(
     seeds: [&str; K],
     every: f64,
     mut cost: impl FnMut(f64, &SimState<'_, NalgebraDual<K>>) -> Dual<K>,
-) -> Result<Gradient<K>, SimError> {
+) -> Result<Gradient<K>, Error> {
     check_seeds(scene, &seeds)?;
     if !(every.is_finite() && every > 0.0) {
-        return Err(SimError::Setting {
+        return Err(Error::Run(SimError::Setting {
             field: "every",
             message: format!("must be a positive number of seconds, got {every}"),
-        });
+        }));
     }
     registry.check(scene)?;
     let s = Seeds::new(&seeds);
@@ -120,8 +121,8 @@ fn fly<B: Backend>(
     duration: f64,
     every: f64,
     extrema: bool,
-    mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), SimError>,
-) -> Result<f64, SimError> {
+    mut at: impl FnMut(f64, &SimState<'_, B>) -> Result<(), Error>,
+) -> Result<f64, Error> {
     let opts = || RunOptions {
         record: false,
         extrema,
@@ -147,7 +148,7 @@ fn fly_dual<const K: usize>(
     every: f64,
     seeds: &[&str; K],
     cost: &mut impl FnMut(f64, &SimState<'_, NalgebraDual<K>>) -> Dual<K>,
-) -> Result<Dual<K>, SimError> {
+) -> Result<Dual<K>, Error> {
     let mut total = Dual::constant(0.0);
     fly(sim, duration, every, false, |t, state| {
         if let Some(e) = non_finite_derivative(state, seeds) {
@@ -164,9 +165,9 @@ fn fly_dual<const K: usize>(
 
 /// The error for `x`, whose first non-finite derivative names the
 /// parameter.
-fn named<const K: usize>(seeds: &[&str; K], x: &Dual<K>, t: f64, component: String) -> SimError {
+fn named<const K: usize>(seeds: &[&str; K], x: &Dual<K>, t: f64, component: String) -> Error {
     let i = x.eps.iter().position(|e| !e.is_finite()).unwrap_or(0);
-    SimError::NonFiniteDerivative {
+    Error::NonFiniteDerivative {
         parameter: seeds[i].to_string(),
         t,
         component,
@@ -179,7 +180,7 @@ fn named<const K: usize>(seeds: &[&str; K], x: &Dual<K>, t: f64, component: Stri
 fn non_finite_derivative<const K: usize>(
     s: &SimState<'_, NalgebraDual<K>>,
     seeds: &[&str; K],
-) -> Option<SimError> {
+) -> Option<Error> {
     let b = s.body;
     let bad = |x: &Dual<K>| x.re.is_finite() && !x.simd_is_finite();
     let name = |part: &str, x: &Dual<K>, at: String| named(seeds, x, s.t, format!("{part}{at}"));
@@ -204,8 +205,9 @@ fn non_finite_derivative<const K: usize>(
 }
 
 /// Every seed a parameter, named once, and read by the scene's vehicle.
-fn check_seeds(scene: &Scene, seeds: &[&str]) -> Result<(), SimError> {
-    let bad = |name: &str, message: String| Err(SimError::Scene(SceneError::at_key(name, message)));
+fn check_seeds(scene: &Scene, seeds: &[&str]) -> Result<(), Error> {
+    let bad =
+        |name: &str, message: String| Err(Error::Scene(scenes::SceneError::at_key(name, message)));
     for (i, name) in seeds.iter().enumerate() {
         if !PARAMETERS.contains(name) {
             return bad(
@@ -258,13 +260,13 @@ pub struct Tracking {
 impl Tracking {
     /// The tracking cost of `scene`'s first position segment, sampled
     /// every `dt` (the `every` of the run it is summed over).
-    pub fn of(scene: &Scene, dt: f64) -> Result<Self, SimError> {
+    pub fn of(scene: &Scene, dt: f64) -> Result<Self, Error> {
         let reference = scene
             .plan
             .iter()
             .find_map(|s| s.position.clone())
             .ok_or_else(|| {
-                SimError::Scene(SceneError::at_key(
+                Error::Scene(scenes::SceneError::at_key(
                     "plan",
                     "a tracking cost needs a position segment".into(),
                 ))
@@ -288,7 +290,7 @@ pub fn plain_cost<C: Cost>(
     scene: &Scene,
     every: f64,
     cost: &mut C,
-) -> Result<f64, SimError> {
+) -> Result<f64, Error> {
     plain_flight(registry, scene, every, cost).map(|f| f.0)
 }
 
@@ -298,7 +300,7 @@ fn plain_flight<C: Cost>(
     scene: &Scene,
     every: f64,
     cost: &mut C,
-) -> Result<(f64, f64), SimError> {
+) -> Result<(f64, f64), Error> {
     registry.check(scene)?;
     let (vehicle, plan) = registry.parts::<NalgebraF64>(scene, None, Seeds::NONE)?;
     let mut total = 0.0;
@@ -360,7 +362,7 @@ pub struct TuneSpec<'p, const K: usize> {
 /// stay positive) with a backtracking line search on plain runs (Armijo,
 /// halving; the next search starts from twice the last accepted step), for
 /// at most `spec.max_gradients` gradient evaluations. A trial whose flight
-/// diverges ([`SimError::is_divergence`]) or commands more than
+/// diverges ([`Error::is_divergence`]) or commands more than
 /// `spec.max_thrust` counts as a rise in cost: the search halves the step.
 /// `report` sees each iteration. Returns the scene with the best parameters
 /// found, the iterations and that scene's cost (from the run that accepted
@@ -376,7 +378,7 @@ pub fn tune<const K: usize, C: Cost>(
     spec: &TuneSpec<'_, K>,
     cost: &mut C,
     mut report: impl FnMut(&TuneStep<K>),
-) -> Result<Tuned<K>, SimError> {
+) -> Result<Tuned<K>, Error> {
     let TuneSpec {
         params,
         bounds,
@@ -393,7 +395,7 @@ pub fn tune<const K: usize, C: Cost>(
             Some(v) if lo > 0.0 && lo <= v && v <= hi => x[i] = v.ln(),
             _ => {
                 let got = v.map_or("no scene number".to_string(), |v| format!("{v}"));
-                return Err(SimError::Scene(SceneError::at_key(
+                return Err(Error::Scene(scenes::SceneError::at_key(
                     name,
                     format!("tuning needs 0 < lo ≤ value ≤ hi, got {got} in [{lo}, {hi}]"),
                 )));
@@ -412,13 +414,13 @@ pub fn tune<const K: usize, C: Cost>(
     let (mut best_cost, mut thrust) = plain_flight(registry, &best, every, cost)?;
     let within = |f: f64| max_thrust.is_none_or(|limit| f <= limit);
     if !within(thrust) {
-        return Err(SimError::Setting {
+        return Err(Error::Run(SimError::Setting {
             field: "max_thrust",
             message: format!(
                 "{} N: the starting flight commands {thrust} N",
                 max_thrust.unwrap_or_default()
             ),
-        });
+        }));
     }
     let mut history = Vec::new();
     let mut alpha: Option<f64> = None;
@@ -510,12 +512,12 @@ pub fn tune_gains(
     scene: &Scene,
     spec: &GainTuning,
     report: &mut dyn FnMut(&TuneStep<4>),
-) -> Result<Tuned<4>, SimError> {
+) -> Result<Tuned<4>, Error> {
     if !(spec.factor.is_finite() && spec.factor >= 1.0) {
-        return Err(SimError::Setting {
+        return Err(Error::Run(SimError::Setting {
             field: "factor",
             message: format!("{}: must be finite and ≥ 1", spec.factor),
-        });
+        }));
     }
     let mut start = scene.clone();
     let mut bounds = [(0.0, 0.0); 4];
@@ -560,16 +562,16 @@ pub fn tracking_gradient(
     scene: &Scene,
     params: &[&str],
     every: f64,
-) -> Result<(f64, Vec<f64>), SimError> {
+) -> Result<(f64, Vec<f64>), Error> {
     if params.is_empty() || params.len() > 4 {
-        return Err(SimError::Setting {
+        return Err(Error::Run(SimError::Setting {
             field: "params",
             message: format!(
                 "{} names: between 1 and 4 at a time ({})",
                 params.len(),
                 params.join(", ")
             ),
-        });
+        }));
     }
     let mut spare = PARAMETERS
         .iter()

@@ -240,7 +240,7 @@ fn scene_files_name_registered_kinds_only() {
     scene.vehicle.params.insert("payload".into(), f64::INFINITY);
     let e = reg.run(&scene, Default::default()).unwrap_err();
     assert!(
-        matches!(&e, SimError::CustomVehicle { kind, .. } if kind == "heavy"),
+        matches!(&e, scenes::Error::CustomVehicle { kind, .. } if kind == "heavy"),
         "{e}"
     );
     let source = std::error::Error::source(&e).expect("a source");

@@ -278,7 +278,9 @@ fn difftune_circle_error_falls_3_5x_within_the_thrust_limit() {
         ..spec
     };
     match tune_gains(&reg, &scene, &low, &mut |_| {}) {
-        Err(scenarios::SimError::Setting { field, .. }) => assert_eq!(field, "max_thrust"),
+        Err(scenes::Error::Run(scenarios::SimError::Setting { field, .. })) => {
+            assert_eq!(field, "max_thrust")
+        }
         other => panic!("{:?}", other.map(|o| o.history)),
     }
 }

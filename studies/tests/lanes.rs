@@ -91,7 +91,7 @@ fn lanes_keep_the_classes_of_the_located_scalar_path() {
 #[test]
 fn lanes_refuse_what_they_do_not_run() {
     let field = |s: Setup| match s.run_lanes(&[0], None, None) {
-        Err(SimError::Setting { field, .. }) => field,
+        Err(scenes::Error::Run(SimError::Setting { field, .. })) => field,
         other => panic!("{other:?}"),
     };
     assert_eq!(field(Setup::default()), "locate_events");
@@ -111,9 +111,9 @@ fn lanes_refuse_what_they_do_not_run() {
     };
     assert!(matches!(
         shared.run(&[0], None, None),
-        Err(SimError::Setting {
+        Err(scenes::Error::Run(SimError::Setting {
             field: "shared_step",
             ..
-        })
+        }))
     ));
 }

@@ -302,7 +302,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     pub fn wind_at(&mut self, t: f64, y: &State<B, N>) -> [f64; 3] {
         let tw = self.wind_time(t);
         match self.wind.as_deref_mut() {
-            Some(w) => w.velocity(tw, f3::<B>(y.body.x)),
+            Some(w) => w.velocity(tw, lie::ops::vec3_f64::<B>(y.body.x)),
             None => [0.0; 3],
         }
     }
@@ -639,10 +639,9 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
         let air = match self.wind.is_some() {
             true => {
                 let tw = self.wind_time(t.to_f64_lossless());
-                let a = self
-                    .wind
-                    .as_deref_mut()
-                    .map_or([0.0; 3], |w| w.velocity(tw, f3::<B>(y.body.x)));
+                let a = self.wind.as_deref_mut().map_or([0.0; 3], |w| {
+                    w.velocity(tw, lie::ops::vec3_f64::<B>(y.body.x))
+                });
                 B::vec3(S::<B>::lit(a[0]), S::<B>::lit(a[1]), S::<B>::lit(a[2]))
             }
             false => lie::ops::zero::<B>(),
@@ -670,14 +669,4 @@ impl<B: Backend, const N: usize> System<B, N> for ClosedLoop<'_, '_, B, N> {
             extra_rate: rates,
         }
     }
-}
-
-/// A backend vector as f64 components (what samples and logs hold).
-pub(crate) fn f3<B: Backend>(x: V3<B>) -> [f64; 3] {
-    B::vec3_to_array(x).map(|c| c.to_f64_lossless())
-}
-
-/// A backend matrix as f64 rows.
-pub(crate) fn fm<B: Backend>(x: lie::M3<B>) -> [[f64; 3]; 3] {
-    lie::ops::elems::<B>(x).map(|r| r.map(|c| c.to_f64_lossless()))
 }

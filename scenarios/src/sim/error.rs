@@ -1,7 +1,5 @@
 //! Why a run could not be built or could not go on.
 
-use std::sync::Arc;
-
 use super::OutputError;
 
 /// Why a run could not be built or could not go on. Each variant keeps its
@@ -10,20 +8,8 @@ use super::OutputError;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum SimError {
-    /// The scene is invalid, or names a vehicle kind nothing registered.
-    Scene(SceneError),
-    /// The scene names an integrator that does not exist.
-    Integrator(integrators::UnknownIntegrator),
     /// The vehicle rejected its parameters, or its allocation failed.
     Vehicle(dynamics::DynamicsError),
-    /// A vehicle registered by the program failed to build.
-    CustomVehicle {
-        /// Its kind, as the scene names it.
-        kind: String,
-        /// What its builder returned, kept as it was (also
-        /// [`std::error::Error::source`]).
-        source: BuildError,
-    },
     /// A setting of the [`SimulationBuilder`](super::SimulationBuilder) (or an argument of
     /// [`Simulation::advance_to`](super::Simulation::advance_to)) is invalid.
     Setting {
@@ -66,47 +52,6 @@ pub enum SimError {
     },
     /// A sink could not write (disk full, …).
     Output(OutputError),
-    /// A derivative of a gradient run (the `sensitivity` module of `geopid-studies`) turned
-    /// non-finite while the value stayed finite.
-    NonFiniteDerivative {
-        /// The seeded parameter it is taken with respect to, e.g.
-        /// `"gains.k_x"`.
-        parameter: String,
-        /// When it was found, s.
-        t: f64,
-        /// The state component, e.g. `"omega[1]"`.
-        component: String,
-    },
-}
-
-/// The error a program's own vehicle builder returned, of whatever type:
-/// shared, so that a [`SimError`] stays `Clone`; two are equal when they
-/// are the same error or say the same.
-#[derive(Clone, Debug)]
-pub struct BuildError(Arc<dyn std::error::Error + Send + Sync>);
-
-impl BuildError {
-    /// Keeps `e`.
-    pub fn new(e: Box<dyn std::error::Error + Send + Sync>) -> Self {
-        Self(Arc::from(e))
-    }
-
-    /// The error as the builder returned it, to downcast to its type.
-    pub fn get(&self) -> &(dyn std::error::Error + Send + Sync + 'static) {
-        &*self.0
-    }
-}
-
-impl PartialEq for BuildError {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0) || self.0.to_string() == other.0.to_string()
-    }
-}
-
-impl std::fmt::Display for BuildError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.0.fmt(f)
-    }
 }
 
 /// A builder setting's error.
@@ -157,12 +102,7 @@ impl std::fmt::Display for SimError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         use controllers::ControlError as C;
         match self {
-            SimError::Scene(e) => write!(f, "scene: {e}"),
-            SimError::Integrator(e) => write!(f, "scene: {e}"),
             SimError::Vehicle(e) => write!(f, "vehicle: {e}"),
-            SimError::CustomVehicle { kind, source } => {
-                write!(f, "scene: vehicle `{kind}`: {source}")
-            }
             SimError::Setting { field, message } => write!(f, "simulation `{field}`: {message}"),
             SimError::Layout {
                 integrals,
@@ -196,15 +136,6 @@ impl std::fmt::Display for SimError {
             SimError::Step { source, .. } => write!(f, "integrator: {source}"),
             SimError::Control { t, source } => write!(f, "controller: at t = {t}: {source}"),
             SimError::Output(e) => write!(f, "output: {e}"),
-            SimError::NonFiniteDerivative {
-                parameter,
-                t,
-                component,
-            } => write!(
-                f,
-                "gradient: the derivative of {component} with respect to `{parameter}` is not \
-                 finite at t = {t} (the value is)"
-            ),
         }
     }
 }
@@ -212,8 +143,6 @@ impl std::fmt::Display for SimError {
 impl std::error::Error for SimError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            SimError::Scene(e) => Some(e),
-            SimError::Integrator(e) => Some(e),
             SimError::Vehicle(e) => Some(e),
             SimError::Step {
                 control: Some(c), ..
@@ -221,17 +150,8 @@ impl std::error::Error for SimError {
             SimError::Step { source, .. } => Some(source),
             SimError::Control { source, .. } => Some(source),
             SimError::Output(e) => Some(e),
-            SimError::CustomVehicle { source, .. } => Some(source.get()),
-            SimError::Setting { .. }
-            | SimError::Layout { .. }
-            | SimError::NonFiniteDerivative { .. } => None,
+            SimError::Setting { .. } | SimError::Layout { .. } => None,
         }
-    }
-}
-
-impl From<SceneError> for SimError {
-    fn from(e: SceneError) -> Self {
-        SimError::Scene(e)
     }
 }
 
@@ -241,50 +161,8 @@ impl From<dynamics::DynamicsError> for SimError {
     }
 }
 
-impl From<integrators::UnknownIntegrator> for SimError {
-    fn from(e: integrators::UnknownIntegrator) -> Self {
-        SimError::Integrator(e)
-    }
-}
-
 impl From<OutputError> for SimError {
     fn from(e: OutputError) -> Self {
         SimError::Output(e)
-    }
-}
-
-/// A scene that failed to load or validate.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneError {
-    /// What is wrong, naming the key and the value.
-    pub message: String,
-    /// `file:line:column` when known.
-    pub location: Option<String>,
-    /// The key a validation error is about, dotted by table
-    /// (`integrator.kind`; in a segment, the key inside `[[plan]]`);
-    /// `None` for a TOML syntax or type error, which the location alone
-    /// places.
-    pub key: Option<String>,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.location {
-            Some(l) => write!(f, "{l}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl SceneError {
-    /// A validation error about `key`, without a place in a file.
-    pub fn at_key(key: &str, message: String) -> Self {
-        Self {
-            message,
-            location: None,
-            key: Some(key.to_string()),
-        }
     }
 }

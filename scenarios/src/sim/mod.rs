@@ -8,7 +8,7 @@
 //! | `mod.rs` | [`Simulation`], [`Segment`], [`Until`], [`Control`], [`RunOptions`] |
 //! | `builder.rs` | [`SimulationBuilder`]: every setting checked, naming the field and the value |
 //! | `output_types.rs` | what a run returns: [`Sample`], [`SwitchRecord`], [`RunOutput`], [`Termination`], [`Health`], and the [`DivergenceGuard`] |
-//! | `error.rs` | [`SimError`], and the [`SceneError`] its `Scene` variant carries (defined here so that the engine needs nothing from the scene layer above) |
+//! | `error.rs` | [`SimError`]: why a run could not be built or could not go on (scene and study errors wrap it in the crates above) |
 //! | `sink.rs` | [`Sink`], where samples and switches go as they are produced, and its [`OutputError`]; the CSV and MCAP writers above implement it |
 //! | `closed_loop.rs` | the vehicle, the plan and the held command as one [`integrators::System`]; the extra-state layout; switching |
 //! | `stepping.rs` | the stepping loop: checkpoints (control instants, switch times, end), steps landing on them, samples from the continuous extension, extrema over every step, progress |
@@ -45,8 +45,8 @@ pub(crate) mod record;
 mod sink;
 mod stepping;
 pub use builder::SimulationBuilder;
+pub use error::SimError;
 use error::bad;
-pub use error::{BuildError, SceneError, SimError};
 pub use output_types::{
     BreakpointCrossing, Divergence, DivergenceGuard, Health, PsiRange, RunOutput, Sample,
     SwitchRecord, Termination,

@@ -4,7 +4,7 @@ use dynamics::Wrench;
 use integrators::State;
 use lie::{Backend, Real, Rotation, S, So3Mat};
 
-use super::closed_loop::{Answer, ClosedLoop, f3, fm};
+use super::closed_loop::{Answer, ClosedLoop};
 use super::{RunOutput, Sample, SimError};
 
 pub(crate) fn empty_sample() -> Sample {
@@ -141,10 +141,10 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     let cmd = command_at(sys, t, y)?;
     let mut s = empty_sample();
     s.t = t;
-    s.x = f3::<B>(y.body.x);
-    s.v = f3::<B>(y.body.v);
-    s.r = fm::<B>(y.body.r);
-    s.omega = f3::<B>(y.body.omega);
+    s.x = lie::ops::vec3_f64::<B>(y.body.x);
+    s.v = lie::ops::vec3_f64::<B>(y.body.v);
+    s.r = lie::ops::mat3_f64::<B>(y.body.r);
+    s.omega = lie::ops::vec3_f64::<B>(y.body.omega);
     s.wind = sys.wind_at(t, y);
     let integrals = sys.layout.integrals(&y.extra);
     let ex = |k: usize| integrals.get(k).map_or(0.0, |e| e.to_f64_lossless());
@@ -155,11 +155,11 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     if let Some(c) = cmd {
         let mode = &sys.plan[sys.active].mode;
         s.thrust = c.out.thrust.to_f64_lossless();
-        s.moment = f3::<B>(c.out.moment);
+        s.moment = lie::ops::vec3_f64::<B>(c.out.moment);
         s.mode = mode.name();
         s.segment = sys.active;
-        s.rd = fm::<B>(c.out.desired.matrix());
-        s.omega_d = f3::<B>(c.out.desired_omega);
+        s.rd = lie::ops::mat3_f64::<B>(c.out.desired.matrix());
+        s.omega_d = lie::ops::vec3_f64::<B>(c.out.desired_omega);
         // Ψ against the desired attitude at *this* state (the held command
         // may be older in sampled mode).
         let r = So3Mat::<B>::from_matrix_unchecked(y.body.r);

@@ -55,7 +55,7 @@ impl std::error::Error for OutputError {}
 /// let out = scenes::run(&scene, RunOptions { record: false, sink: Some(&mut sink), ..Default::default() })?;
 /// assert!(out.samples.is_empty(), "nothing kept in memory");
 /// assert!(sink.peak > 0.5, "the switch to position mode jumps Ψ: {}", sink.peak);
-/// # Ok::<(), scenarios::SimError>(())
+/// # Ok::<(), scenes::Error>(())
 /// ```
 pub trait Sink {
     /// Before the first sample: the name of each segment's mode, in plan

@@ -11,11 +11,9 @@ mod locate;
 mod validate;
 mod wind;
 
+pub use crate::error::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
 use locate::{line_col, locate_error};
-/// Defined beside [`SimError`](scenarios::SimError), whose `Scene` variant
-/// carries it, so that the engine needs nothing from this module.
-pub use scenarios::SceneError;
 pub use wind::WindSpec;
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are

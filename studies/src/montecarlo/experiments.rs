@@ -8,6 +8,7 @@
 use controllers::ModeOutput;
 use dynamics::RigidBodyState;
 use lie::{Backend, GlamF64, Real, S};
+use scenes::Error;
 
 use super::{Status, Stream, Study, in_ball, shoemake};
 use crate::metrics::norm;
@@ -179,14 +180,14 @@ impl Default for Setup {
 
 impl Setup {
     /// The experiment.
-    pub fn experiment(&self) -> Result<Experiment, SimError> {
+    pub fn experiment(&self) -> Result<Experiment, Error> {
         match self.experiment.as_str() {
             "attitude" => Ok(Experiment::Attitude),
             "position" => Ok(Experiment::Position),
-            e => Err(SimError::Setting {
+            e => Err(Error::Run(SimError::Setting {
                 field: "experiment",
                 message: format!("`{e}`: expected attitude or position"),
-            }),
+            })),
         }
     }
 
@@ -200,10 +201,10 @@ impl Setup {
     /// use studies::montecarlo::Setup;
     /// let bad = Setup { dt: 0.0, ..Setup::default() };
     /// let e = bad.validate().unwrap_err();
-    /// assert!(matches!(e, scenarios::SimError::Setting { field: "dt", .. }), "{e}");
+    /// assert!(matches!(e, scenes::Error::Run(scenarios::SimError::Setting { field: "dt", .. })), "{e}");
     /// ```
-    pub fn validate(&self) -> Result<(), SimError> {
-        let fail = |field, message: String| Err(SimError::Setting { field, message });
+    pub fn validate(&self) -> Result<(), Error> {
+        let fail = |field, message: String| Err(Error::Run(SimError::Setting { field, message }));
         let values = [
             ("omega_max", self.omega_max, true),
             ("x_max", self.x_max, true),
@@ -231,13 +232,13 @@ impl Setup {
     }
 
     /// [`Setup::validate`], and the settings only the lane path has off.
-    fn validate_scalar(&self) -> Result<(), SimError> {
+    fn validate_scalar(&self) -> Result<(), Error> {
         self.validate()?;
         if self.shared_step {
-            return Err(SimError::Setting {
+            return Err(Error::Run(SimError::Setting {
                 field: "shared_step",
                 message: "true: a step size shared between lanes applies to the lane path (run_lanes) only".into(),
-            });
+            }));
         }
         Ok(())
     }
@@ -308,7 +309,7 @@ impl Setup {
     /// divergence guard ([`DIVERGED_OMEGA`], [`DIVERGED_X`], and for dopri
     /// [`MAX_SUBSTEPS`]: a call that needs more is a solution blowing up
     /// between two checks of the state limits).
-    pub fn builder(&self, init: &Initial) -> Result<SimulationBuilder<'static, B>, SimError> {
+    pub fn builder(&self, init: &Initial) -> Result<SimulationBuilder<'static, B>, Error> {
         let sc = self.scene(init);
         let vehicle = scenes::build_vehicle::<B>(&sc)?;
         let plan = scenes::plan::<B>(&sc, vehicle.as_ref());
@@ -353,7 +354,7 @@ impl Setup {
     ) -> Study<
         Initial,
         impl Fn(&mut Stream) -> Initial + Sync + '_,
-        impl Fn(&Initial) -> Result<SimulationBuilder<'static, B>, SimError> + Sync + '_,
+        impl Fn(&Initial) -> Result<SimulationBuilder<'static, B>, Error> + Sync + '_,
         impl Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync + '_,
     > {
         Study::new(
@@ -371,7 +372,7 @@ impl Setup {
         indices: &[u64],
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
-    ) -> Result<Vec<Outcome>, SimError> {
+    ) -> Result<Vec<Outcome>, Error> {
         self.validate_scalar()?;
         let trials = self.study().run(indices, threads, progress)?;
         Ok(trials.into_iter().map(Outcome::from).collect())
@@ -386,7 +387,7 @@ impl Setup {
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
         cancel: &std::sync::atomic::AtomicBool,
-    ) -> Result<Vec<Outcome>, SimError> {
+    ) -> Result<Vec<Outcome>, Error> {
         self.validate_scalar()?;
         let trials = self
             .study()
@@ -395,7 +396,7 @@ impl Setup {
     }
 
     /// Runs sample `index`.
-    pub fn run_sample(&self, index: u64) -> Result<Outcome, SimError> {
+    pub fn run_sample(&self, index: u64) -> Result<Outcome, Error> {
         self.validate_scalar()?;
         self.study().sample(index).map(Outcome::from)
     }

@@ -18,6 +18,7 @@
 //! not the class, the time to converge (interpolated as before) or the
 //! step count.
 
+use scenes::Error;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -80,15 +81,15 @@ struct Model {
     model: AccelerationModel<E>,
 }
 
-fn singular() -> SimError {
-    SimError::Setting {
+fn singular() -> Error {
+    Error::Run(SimError::Setting {
         field: "vehicle",
         message: "its inertia is singular".into(),
-    }
+    })
 }
 
 impl Model {
-    fn new(setup: &Setup) -> Result<Self, SimError> {
+    fn new(setup: &Setup) -> Result<Self, Error> {
         let scene = setup.scene(&setup.initial(0));
         let vehicle = scenes::build_vehicle::<E>(&scene)?;
         let (params, pos, att, model) =
@@ -113,7 +114,7 @@ impl Model {
 
     /// The position experiment's loop on `B` (one lane for `B = E`):
     /// hover at the origin, `b1d = e1`.
-    fn position<B>(&self) -> Result<PositionLoop<B>, SimError>
+    fn position<B>(&self) -> Result<PositionLoop<B>, Error>
     where
         B: lie::SimdBackend<Scalar: SimdReal<Element = f64>>,
     {
@@ -130,7 +131,7 @@ impl Model {
     }
 
     /// The attitude experiment's loop on `B`: `R_d = I`, hover thrust.
-    fn attitude<B>(&self) -> Result<AttitudeLoop<B>, SimError>
+    fn attitude<B>(&self) -> Result<AttitudeLoop<B>, Error>
     where
         B: lie::SimdBackend<Scalar: SimdReal<Element = f64>>,
     {
@@ -265,7 +266,7 @@ impl Shared<'_> {
 
     /// A worker: fills its lanes from the queue and flies them until the
     /// queue and the lanes are empty.
-    fn work<Sys, One>(&self, mut sys: Sys, mut one: One) -> Result<(), SimError>
+    fn work<Sys, One>(&self, mut sys: Sys, mut one: One) -> Result<(), Error>
     where
         Sys: LaneSystem<L, 6> + Commanded<L>,
         One: LaneSystem<E, 6> + Commanded<E>,
@@ -379,7 +380,7 @@ impl Setup {
         indices: &[u64],
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
-    ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
+    ) -> Result<(Vec<Outcome>, LaneUse), Error> {
         self.lanes_until(indices, threads, progress, None)
     }
 
@@ -391,7 +392,7 @@ impl Setup {
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
         cancel: &AtomicBool,
-    ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
+    ) -> Result<(Vec<Outcome>, LaneUse), Error> {
         self.lanes_until(indices, threads, progress, Some(cancel))
     }
 
@@ -401,22 +402,22 @@ impl Setup {
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
         cancel: Option<&AtomicBool>,
-    ) -> Result<(Vec<Outcome>, LaneUse), SimError> {
+    ) -> Result<(Vec<Outcome>, LaneUse), Error> {
         self.validate()?;
         if self.integrator != "dopri" {
-            return Err(SimError::Setting {
+            return Err(Error::Run(SimError::Setting {
                 field: "integrator",
                 message: format!(
                     "`{}`: the lane path integrates with dopri only (a fixed-step rk4, even at 0.0025 s, classified 1.4 % of samples differently from dopri: a stiff first transient that its step control resolves)",
                     self.integrator
                 ),
-            });
+            }));
         }
         if self.locate_events {
-            return Err(SimError::Setting {
+            return Err(Error::Run(SimError::Setting {
                 field: "locate_events",
                 message: "true: the lane path does not locate sat′ crossings; set it to false (its rows then equal the scalar path's with the same setup)".into(),
-            });
+            }));
         }
         let model = Model::new(self)?;
         let shared = Shared {

@@ -60,7 +60,7 @@
 //! let summary = Summary::of(&trials);
 //! assert_eq!(summary.samples, 8);
 //! assert!(trials.iter().all(|t| t.status != Status::Error));
-//! # Ok::<(), scenarios::SimError>(())
+//! # Ok::<(), scenes::Error>(())
 //! ```
 
 mod experiments;
@@ -81,6 +81,7 @@ pub use rand_chacha::ChaCha8Rng as Stream;
 pub use rand_chacha::rand_core;
 pub use report::{Cost, Report, SlowSample};
 
+use scenes::Error;
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -259,7 +260,7 @@ pub struct Trial<D> {
     pub max_rotor: f64,
     /// The run's output (its last sample, steps, termination); the step's
     /// error for [`Status::Error`].
-    pub run: Result<RunOutput, SimError>,
+    pub run: Result<RunOutput, Error>,
 }
 
 impl<D> Trial<D> {
@@ -305,7 +306,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
         B: Backend,
         I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, Error>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
         Self {
@@ -321,31 +322,25 @@ impl<D, S, G, M> Study<D, S, G, M> {
     /// Flies sample `index`. A failed step is the sample's result
     /// ([`Status::Error`]); any other error (a setting `build` got wrong,
     /// a full disk) is the study's and returned.
-    pub fn sample<B, I>(&self, index: u64) -> Result<Trial<D>, SimError>
+    pub fn sample<B, I>(&self, index: u64) -> Result<Trial<D>, Error>
     where
         B: Backend,
         I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, Error>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
-        self.fly(index, None)?.ok_or_else(|| SimError::Setting {
-            field: "study",
-            message: format!("sample {index} was interrupted"),
-        })
+        self.fly(index, None)?
+            .ok_or_else(|| Error::setting("study", format!("sample {index} was interrupted")))
     }
 
     /// [`Study::sample`], or `None` when `cancel` is set before it ends.
-    fn fly<B, I>(
-        &self,
-        index: u64,
-        cancel: Option<&AtomicBool>,
-    ) -> Result<Option<Trial<D>>, SimError>
+    fn fly<B, I>(&self, index: u64, cancel: Option<&AtomicBool>) -> Result<Option<Trial<D>>, Error>
     where
         B: Backend,
         I: Method<B>,
         S: Fn(&mut Stream) -> D,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError>,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, Error>,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64,
     {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
@@ -369,7 +364,11 @@ impl<D, S, G, M> Study<D, S, G, M> {
                 cancel,
                 ..Default::default()
             };
-            (self.build)(&draw)?.stop_when(stop).build()?.run(opts)
+            (self.build)(&draw)?
+                .stop_when(stop)
+                .build()?
+                .run(opts)
+                .map_err(Error::Run)
         };
         let status = match &run {
             Ok(out) => match out.termination {
@@ -382,7 +381,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
             },
             // A state gone non-finite is the sample's failure, whether the
             // step noticed it or the law did at a record time in between.
-            Err(SimError::Step { .. } | SimError::Control { .. }) => Status::Error,
+            Err(Error::Run(SimError::Step { .. } | SimError::Control { .. })) => Status::Error,
             Err(e) => return Err(e.clone()),
         };
         Ok(Some(Trial {
@@ -407,13 +406,13 @@ impl<D, S, G, M> Study<D, S, G, M> {
         indices: &[u64],
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
-    ) -> Result<Vec<Trial<D>>, SimError>
+    ) -> Result<Vec<Trial<D>>, Error>
     where
         B: Backend,
         I: Method<B>,
         D: Send,
         S: Fn(&mut Stream) -> D + Sync,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError> + Sync,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, Error> + Sync,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
     {
         self.run_until_cancelled(indices, threads, progress, &AtomicBool::new(false))
@@ -430,13 +429,13 @@ impl<D, S, G, M> Study<D, S, G, M> {
         threads: Option<usize>,
         progress: Option<&(dyn Fn(u64) + Sync)>,
         cancel: &AtomicBool,
-    ) -> Result<Vec<Trial<D>>, SimError>
+    ) -> Result<Vec<Trial<D>>, Error>
     where
         B: Backend,
         I: Method<B>,
         D: Send,
         S: Fn(&mut Stream) -> D + Sync,
-        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, SimError> + Sync,
+        G: Fn(&D) -> Result<SimulationBuilder<'static, B, I>, Error> + Sync,
         M: Fn(f64, &RigidBodyState<B>, &ModeOutput<B>) -> f64 + Sync,
     {
         let done = std::sync::atomic::AtomicU64::new(0);
@@ -461,8 +460,8 @@ impl<D, S, G, M> Study<D, S, G, M> {
 fn parallel_map<T: Send>(
     indices: &[u64],
     threads: Option<usize>,
-    f: impl Fn(&u64) -> Result<T, SimError> + Sync + Send,
-) -> Result<Vec<T>, SimError> {
+    f: impl Fn(&u64) -> Result<T, Error> + Sync + Send,
+) -> Result<Vec<T>, Error> {
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;

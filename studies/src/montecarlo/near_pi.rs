@@ -18,8 +18,9 @@ use controllers::ModeOutput;
 use controllers::gain_check::lambda_plus;
 use dynamics::RigidBodyState;
 use lie::{GlamF64, Real};
+use scenes::Error;
 
-use scenarios::{RunOptions, SimError, Simulation};
+use scenarios::{RunOptions, Simulation};
 use scenes::builtin;
 
 /// The escape from near π about one principal axis.
@@ -93,7 +94,7 @@ impl std::fmt::Display for NearPiAxis {
 /// time to Ψ < 10⁻³ in the large-attitude-error scene without its
 /// disturbance (RK4 at 1 ms, 60 s at most), and the fitted slope against
 /// 1/λ₊.
-pub fn near_pi() -> Result<Vec<NearPiAxis>, SimError> {
+pub fn near_pi() -> Result<Vec<NearPiAxis>, Error> {
     type B = GlamF64;
     let base = builtin::large_attitude_error();
     let g = &base.gains;

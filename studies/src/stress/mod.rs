@@ -9,6 +9,7 @@
 //! every built-in scene, and a non-finite reference injected mid-run with
 //! the CSV and MCAP read back. `quick` shortens the horizons (CI).
 
+use scenes::Error;
 use std::path::Path;
 
 use crate::metrics::nan_max;
@@ -113,12 +114,12 @@ fn health(out: &RunOutput) -> Vec<String> {
     out.health().iter().map(ToString::to_string).collect()
 }
 
-fn run(scene: &Scene) -> Result<RunOutput, SimError> {
+fn run(scene: &Scene) -> Result<RunOutput, Error> {
     scenes::run(scene, RunOptions::default())
 }
 
 /// A run that failed, as the suite's error.
-fn failed(what: &str) -> impl FnOnce(SimError) -> SuiteError + '_ {
+fn failed(what: &str) -> impl FnOnce(Error) -> SuiteError + '_ {
     move |source| SuiteError::Run {
         scene: what.to_string(),
         source,
@@ -226,7 +227,7 @@ fn run_or_told(
     match run(s) {
         Ok(o) => Ok(Some(o)),
         Err(e) if s.integrator.kind == "euler" => {
-            let named = matches!(e, SimError::Step { t, .. } if t.is_finite());
+            let named = matches!(e, Error::Run(SimError::Step { t, .. }) if t.is_finite());
             r.holds(
                 case,
                 format!("{name}: {why}; the run says so: {e}"),

@@ -1,6 +1,7 @@
 //! A non-finite reference injected mid-run, and the files read back.
 
 use super::*;
+use scenes::Error;
 
 /// Position mode hovering at 1 m, its reference turning NaN at t = 1.5 s;
 /// the run streams to CSV and MCAP.
@@ -38,7 +39,7 @@ pub(super) fn non_finite(r: &mut Report<'_>, _quick: bool, dir: &Path) -> Result
     );
     let quad = Quadrotor::<B>::paper()
         .with_disturbance(Quadrotor::<B>::paper_disturbance())
-        .map_err(|e| failed("non-finite vehicle")(SimError::Vehicle(e)))?;
+        .map_err(|e| failed("non-finite vehicle")(Error::Run(SimError::Vehicle(e))))?;
     let csv_path = dir.join("non-finite.csv");
     let mcap_path = dir.join("non-finite.mcap");
     let mut csv = logs::CsvWriter::create(&csv_path).map_err(SuiteError::Output)?;
@@ -50,7 +51,7 @@ pub(super) fn non_finite(r: &mut Report<'_>, _quick: bool, dir: &Path) -> Result
         .duration(4.0)
         .record_every(0.01)
         .build()
-        .map_err(failed("non-finite"))?;
+        .map_err(|e| failed("non-finite")(e.into()))?;
     let mut last_t = None;
     let result = {
         let mut tee = logs::Tee(vec![&mut csv as &mut dyn Sink, &mut mcap]);

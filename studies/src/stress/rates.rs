@@ -2,6 +2,7 @@
 //! high rates.
 
 use super::*;
+use scenes::Error;
 
 /// The free rigid body for 10⁴ s (10³ with `--quick`), h = 0.01.
 pub(super) fn free_body(r: &mut Report<'_>, quick: bool, _: &Path) -> Result<(), SuiteError> {
@@ -187,7 +188,7 @@ pub(super) fn high_rate(r: &mut Report<'_>, quick: bool, _: &Path) -> Result<(),
     base.record.sample = duration; // the end only: the exact solution is compared there
     let rows = scenes::reference::rotation_f64(base.initial.rotation);
     let exact = ExactFreeBody::new(base.vehicle.inertia, omega0, rows)
-        .map_err(|e| failed("exact free body")(SimError::Vehicle(e)))?;
+        .map_err(|e| failed("exact free body")(Error::Run(SimError::Vehicle(e))))?;
     let re = exact.attitude(duration);
     let we = exact.omega(duration);
     let w = norm(omega0);
