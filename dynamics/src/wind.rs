@@ -352,27 +352,16 @@ impl Wind for DrydenWind {
     }
 }
 
-/// SplitMix64's finaliser: a 64-bit mix with full avalanche.
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// A standard normal keyed by `(seed, k, axis)` (Box–Muller on two
-/// uniforms from the mixed key): a function of the key alone, so noise
-/// sample `k` is the same whichever order the samples are asked for.
+/// A standard normal keyed by `(seed, k, axis)` ([`lie::noise`]): a
+/// function of the key alone, so noise sample `k` is the same whichever
+/// order the samples are asked for.
 fn normal(seed: u64, k: u64, axis: u64) -> f64 {
-    let key = mix(seed
+    use lie::noise::mix;
+    lie::noise::normal(mix(seed
         ^ mix(k
             .wrapping_mul(3)
             .wrapping_add(axis)
-            .wrapping_add(0x9e37_79b9_7f4a_7c15)));
-    let a = mix(key);
-    let b = mix(key ^ 0xd1b5_4a32_d192_ed03);
-    let u1 = ((a >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let u2 = (b >> 11) as f64 / (1u64 << 53) as f64;
-    (-2.0 * u1.ln()).sqrt() * (2.0 * core::f64::consts::PI * u2).cos()
+            .wrapping_add(0x9e37_79b9_7f4a_7c15))))
 }
 
 #[cfg(test)]

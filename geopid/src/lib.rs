@@ -43,6 +43,7 @@ pub use lie;
 pub use logs;
 pub use scenarios;
 pub use scenes;
+pub use sensors;
 pub use studies;
 
 /// The names most programs use: the backends and rotations, the vehicles,

@@ -110,6 +110,7 @@ mod backends {
     #[cfg(feature = "nalgebra")]
     pub mod nalgebra;
 }
+pub mod noise;
 mod quat;
 mod real;
 mod rotation;

@@ -1,0 +1,56 @@
+//! Sensor models: what a flight computer reads instead of the true state.
+//!
+//! An [`Imu`] reads, at its own sample instants, the specific force and the
+//! body rates at the point where it is mounted, with the errors of a real
+//! part: white noise given as a density, a bias random walk, a turn-on
+//! bias, scale factors and axis misalignment, and range saturation
+//! ([`TriadErrors`]). Presets give the numbers of the parts and simulators
+//! users compare with ([`ImuSpec::rotorpy`], [`ImuSpec::crazyflie`],
+//! [`ImuSpec::mpu9250`], [`ImuSpec::fdcl_gazebo`]).
+//!
+//! # Frames and signs
+//! As everywhere in geopid, `e3` points **down**: gravity is `+g e3` in the
+//! world frame and thrust acts along `−b3`. The accelerometer reads the
+//! specific force, acceleration minus gravity, so a level IMU at rest
+//! reads `−g` along `b3` (the ground pushes it up):
+//!
+//! `f_S = R_BSᵀ (Rᵀ(a − g e3) + α × p + Ω × (Ω × p))`, `ω_S = R_BSᵀ Ω`,
+//!
+//! for a sensor at body position `p` with axes `R_BS` (its columns are the
+//! sensor's axes in the body frame), `R` the attitude, `a` the world
+//! acceleration of the centre of mass, `Ω` and `α = Ω̇` the body rates and
+//! their derivative, all at the sample instant.
+//!
+//! # Noise that never surprises
+//! Every random number is a function of `(seed, sensor, sample index,
+//! channel)` ([`NoiseKey`], through [`lie::noise`]): the same seed gives the
+//! same noise whatever the integrator, the step, the recording, the thread
+//! or which other sensors are on. The measurements themselves move with
+//! the true trajectory they are taken on; the noise added to them does not.
+//!
+//! ```
+//! use lie::{Backend, NalgebraF64 as B};
+//! use sensors::{Imu, ImuSpec, Kinematics, NoiseKey};
+//!
+//! // A level Crazyflie IMU at rest, noise off: −g along b3, no rates.
+//! let spec = ImuSpec::crazyflie().noiseless();
+//! let mut imu = Imu::<B>::new(spec, NoiseKey::new(1, 0))?;
+//! let s = imu.sample(0, &Kinematics::<B>::at_rest(), 9.81)?;
+//! assert_eq!(B::vec3_to_array(s.accel), [0.0, 0.0, -9.81]);
+//! assert_eq!(B::vec3_to_array(s.gyro), [0.0; 3]);
+//! # Ok::<(), sensors::SensorError>(())
+//! ```
+//!
+//! `#![no_std]` without the `std` feature (use `libm`); no heap.
+
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+mod error;
+mod imu;
+mod noise;
+mod presets;
+
+pub use error::SensorError;
+pub use imu::{Imu, ImuSample, ImuSpec, Kinematics, TriadErrors};
+pub use noise::NoiseKey;

@@ -1,0 +1,71 @@
+//! The IMUs of the parts and simulators users compare with.
+
+use crate::{ImuSpec, TriadErrors};
+
+/// Standard gravity, m/s², for densities given in µg/√Hz.
+const G0: f64 = 9.806_65;
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+const DEG: f64 = core::f64::consts::PI / 180.0;
+
+impl ImuSpec {
+    /// An IMU at the centre of mass, aligned with the body, sampling at
+    /// `rate` with the errors given.
+    pub const fn aligned(rate: f64, accel: TriadErrors, gyro: TriadErrors) -> Self {
+        Self {
+            rate,
+            position: [0.0; 3],
+            mounting: IDENTITY,
+            accel,
+            gyro,
+        }
+    }
+
+    /// RotorPy 3.0.0's IMU as its `Environment` builds it, sampling at the
+    /// simulation rate `rate` (100 Hz by default there): per-sample
+    /// σ = √(rate/2)·0.038² m/s² (accelerometer) and √(rate/2)·0.01² rad/s
+    /// (gyroscope), RotorPy's squared defaults used as standard
+    /// deviations; no bias and no walk. Its noise levels only: RotorPy's
+    /// gyroscope ignores the mounting, its lever-arm terms mix frames, and
+    /// its bias walk shrinks with the rate; this model does none of that.
+    pub fn rotorpy(rate: f64) -> Self {
+        // σ = N·√rate = √(rate/2)·c  ⇒  N = c/√2.
+        let n = |c: f64| c / core::f64::consts::SQRT_2;
+        Self::aligned(
+            rate,
+            TriadErrors::white(n(0.038 * 0.038)),
+            TriadErrors::white(n(0.01 * 0.01)),
+        )
+    }
+
+    /// The Crazyflie 2.x's Bosch BMI088 at 1 kHz, with the typical noise
+    /// densities of Bosch Sensortec's BMI088 datasheet: accelerometer
+    /// 175 µg/√Hz, gyroscope 0.014 °/s/√Hz; no bias terms (the datasheet
+    /// gives no random walk).
+    pub fn crazyflie() -> Self {
+        Self::aligned(
+            1000.0,
+            TriadErrors::white(175e-6 * G0),
+            TriadErrors::white(0.014 * DEG),
+        )
+    }
+
+    /// The InvenSense MPU-9250 at 1 kHz, with the typical noise densities
+    /// of its product specification: accelerometer 300 µg/√Hz, gyroscope
+    /// 0.01 °/s/√Hz (1.75e-4 rad/s/√Hz).
+    pub fn mpu9250() -> Self {
+        Self::aligned(
+            1000.0,
+            TriadErrors::white(300e-6 * G0),
+            TriadErrors::white(0.01 * DEG),
+        )
+    }
+
+    /// The IMU of the FDCL lab's Gazebo simulator (`fdcl-gwu/uav_simulator`):
+    /// 100 Hz, Gaussian noise of σ = 1e-4 per sample on every axis of both
+    /// triads.
+    pub fn fdcl_gazebo() -> Self {
+        // σ = N·√100.
+        let n = 1e-4 / 10.0;
+        Self::aligned(100.0, TriadErrors::white(n), TriadErrors::white(n))
+    }
+}
