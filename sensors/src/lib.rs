@@ -47,10 +47,17 @@
 #![deny(missing_docs)]
 
 mod error;
+mod estimator;
+mod gps;
 mod imu;
+mod mocap;
 mod noise;
 mod presets;
 
 pub use error::SensorError;
+pub use estimator::{Estimator, Measurement, MocapEstimator, NavState, SensorSet};
+pub use gps::{Baro, BaroSample, BaroSpec, Gps, GpsSample, GpsSpec};
 pub use imu::{Imu, ImuSample, ImuSpec, Kinematics, TriadErrors};
+pub use mocap::{Mocap, MocapSample, MocapSpec, Spike};
 pub use noise::NoiseKey;
+pub use presets::SensorSuite;

@@ -33,3 +33,14 @@ impl NoiseKey {
         [a, b, c, d, e, f]
     }
 }
+
+impl NoiseKey {
+    /// A uniform number in [0, 1): number `j` of sample `k`, independent
+    /// of the normals (its own part of the key space).
+    #[inline]
+    pub fn uniform(&self, k: u64, j: u64) -> f64 {
+        let z =
+            mix(self.base ^ mix(k.wrapping_mul(64).wrapping_add(32 + j)) ^ 0x5851_f42d_4c95_7f2d);
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

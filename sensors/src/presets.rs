@@ -69,3 +69,117 @@ impl ImuSpec {
         Self::aligned(100.0, TriadErrors::white(n), TriadErrors::white(n))
     }
 }
+
+/// The sensors of a run: any of an IMU, a motion-capture system, a GPS and
+/// a barometer, each with its own rate.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SensorSuite {
+    /// The IMU.
+    pub imu: Option<ImuSpec>,
+    /// Motion capture.
+    pub mocap: Option<crate::MocapSpec>,
+    /// GPS.
+    pub gps: Option<crate::GpsSpec>,
+    /// Barometer.
+    pub baro: Option<crate::BaroSpec>,
+}
+
+impl SensorSuite {
+    /// The names [`SensorSuite::preset`] knows.
+    pub const PRESETS: [&'static str; 4] = ["rotorpy", "crazyflie", "mpu9250", "fdcl-gazebo"];
+
+    /// A named suite: `rotorpy` (RotorPy 3.0.0's IMU and motion capture at
+    /// its default 100 Hz), `crazyflie` (the BMI088 at 1 kHz and an
+    /// external pose at 100 Hz, 10 ms late), `mpu9250` (the MPU-9250 at
+    /// 1 kHz alone), `fdcl-gazebo` (the FDCL simulator's IMU at 100 Hz and
+    /// GPS at 10 Hz); `None` for another name.
+    pub fn preset(name: &str) -> Option<Self> {
+        let none = Self::default();
+        Some(match name {
+            "rotorpy" => Self {
+                imu: Some(ImuSpec::rotorpy(100.0)),
+                mocap: Some(crate::MocapSpec::rotorpy(100.0)),
+                ..none
+            },
+            "crazyflie" => Self {
+                imu: Some(ImuSpec::crazyflie()),
+                mocap: Some(crate::MocapSpec::crazyflie()),
+                ..none
+            },
+            "mpu9250" => Self {
+                imu: Some(ImuSpec::mpu9250()),
+                ..none
+            },
+            "fdcl-gazebo" => Self {
+                imu: Some(ImuSpec::fdcl_gazebo()),
+                gps: Some(crate::GpsSpec::fdcl_gazebo()),
+                ..none
+            },
+            _ => return None,
+        })
+    }
+
+    /// Which sensors it has.
+    pub fn set(&self) -> crate::SensorSet {
+        crate::SensorSet {
+            imu: self.imu.is_some(),
+            mocap: self.mocap.is_some(),
+            gps: self.gps.is_some(),
+            baro: self.baro.is_some(),
+        }
+    }
+
+    /// Whether it has no sensor at all.
+    pub fn is_empty(&self) -> bool {
+        self.set() == crate::SensorSet::default()
+    }
+
+    /// Every sensor's spec in range.
+    pub fn validate(&self) -> Result<(), crate::SensorError> {
+        if let Some(s) = &self.imu {
+            s.validate()?;
+        }
+        if let Some(s) = &self.mocap {
+            s.validate()?;
+        }
+        if let Some(s) = &self.gps {
+            s.validate()?;
+        }
+        if let Some(s) = &self.baro {
+            s.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Every sensor with its noise scaled by `k` (white noise, walks,
+    /// biases and spikes; rates, latencies and dropouts kept): `0` for a
+    /// noiseless suite.
+    pub fn noise_scaled(mut self, k: f64) -> Self {
+        if let Some(s) = self.imu.as_mut() {
+            for e in [&mut s.accel, &mut s.gyro] {
+                e.noise_density *= k;
+                e.random_walk *= k;
+                e.turn_on_bias *= k;
+            }
+        }
+        if let Some(s) = self.mocap.as_mut() {
+            s.position_sigma *= k;
+            s.velocity_sigma *= k;
+            s.attitude_sigma *= k;
+            s.rate_sigma *= k;
+            s.velocity_spike.max *= k;
+            s.rate_spike.max *= k;
+        }
+        if let Some(s) = self.gps.as_mut() {
+            s.horizontal_sigma *= k;
+            s.vertical_sigma *= k;
+            s.velocity_sigma *= k;
+        }
+        if let Some(s) = self.baro.as_mut() {
+            s.sigma *= k;
+            s.random_walk *= k;
+            s.turn_on_bias *= k;
+        }
+        self
+    }
+}
