@@ -32,6 +32,7 @@ pub struct SimulationBuilder<'a, B: Backend, M = Stepper<B>> {
     pub(super) stop: Option<Condition<'a, B>>,
     pub(super) guard: DivergenceGuard,
     pub(super) warnings: Vec<String>,
+    pub(super) sensing: sense::Settings<'a, B>,
 }
 
 impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
@@ -93,6 +94,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
             stop: self.stop,
             guard: self.guard,
             warnings: self.warnings,
+            sensing: self.sensing,
         }
     }
     /// The step (for Dormand–Prince: the longest call; it subdivides).
@@ -141,6 +143,26 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
     /// `guard`'s limits (none by default).
     pub fn guard(mut self, guard: DivergenceGuard) -> Self {
         self.guard = guard;
+        self
+    }
+    /// The sensors the vehicle carries, their noise keyed on `seed` (none by
+    /// default): each samples at its own instants from the steps'
+    /// continuous extension, so sensing moves no step; what they measure
+    /// is in [`RunOutput::measurements`] and each [`Sample::sensors`].
+    pub fn sensors(mut self, suite: sensors::SensorSuite, seed: u64) -> Self {
+        self.sensing.suite = suite;
+        self.sensing.seed = seed;
+        self
+    }
+    /// The estimator the flight modes read instead of the true state (none
+    /// by default: they read the truth). It needs sampled control
+    /// ([`Control::Sampled`]): at each control instant it takes every
+    /// measurement that has arrived and gives the state the mode commands
+    /// from; the plan's switch conditions read that estimate too, at the
+    /// control instants, while the stop condition and the divergence guard
+    /// read the truth.
+    pub fn estimator(mut self, estimator: Box<dyn sensors::Estimator<B> + 'a>) -> Self {
+        self.sensing.estimator = Some(estimator);
         self
     }
     /// Subtract the vehicle's configuration moment (gravity about a pivot)
@@ -329,6 +351,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         if let Some(c) = self.guard.substeps {
             stepper.limit_substeps(c);
         }
+        let sensing = self.sensing.build(self.control, self.duration)?;
         let mut plan = self.plan;
         let mut wind = self.wind;
         let mut running = stepping::prepare(
@@ -350,6 +373,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         Ok(Engine {
             vehicle: self.vehicle,
             wind,
+            sensing,
             plan,
             stepper,
             y: initial,

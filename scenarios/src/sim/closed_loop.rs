@@ -84,6 +84,8 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     /// The vehicle's optional parts, read once.
     pub caps: Capabilities<'s, B>,
     pub wind: Option<&'s mut (dyn Wind + 'a)>,
+    /// The sensors and the estimator, when the run has them.
+    pub sensing: Option<&'s mut super::sense::Sensing<'a, B>>,
     pub plan: &'s mut [Segment<'a, B>],
     pub active: usize,
     /// Where the integrals and the vehicle's states are.
@@ -228,6 +230,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             vehicle,
             caps: vehicle.capabilities(),
             wind,
+            sensing: None,
             plan,
             active: 0,
             layout,
@@ -261,6 +264,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     pub fn resume(
         vehicle: &'s dyn Vehicle<B>,
         wind: Option<&'s mut (dyn Wind + 'a)>,
+        sensing: Option<&'s mut super::sense::Sensing<'a, B>>,
         plan: &'s mut [Segment<'a, B>],
         p: &Parked<B, N>,
     ) -> Self {
@@ -268,6 +272,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             vehicle,
             caps: vehicle.capabilities(),
             wind,
+            sensing,
             plan,
             active: p.active,
             layout: p.layout,
@@ -479,6 +484,44 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     /// The vehicle's internal states in `y`.
     pub fn vehicle_states<'y>(&self, y: &'y State<B, N>) -> &'y [S<B>] {
         self.layout.vehicle_states(&y.extra)
+    }
+
+    /// Whether an estimator stands between the sensors and the mode: the
+    /// mode then reads its estimate at each control instant, and the
+    /// switch conditions read it there too.
+    pub fn estimating(&self) -> bool {
+        self.sensing.as_deref().is_some_and(|s| s.estimating())
+    }
+
+    /// The estimator's estimate for the control instant `t`, from every
+    /// measurement arrived by then (nothing without an estimator).
+    pub fn refresh_estimate(&mut self, t: f64) {
+        if let Some(s) = self.sensing.as_deref_mut() {
+            s.refresh(t);
+        }
+    }
+
+    /// The command a control instant holds: the active mode's at the
+    /// estimate (at the true state without an estimator), with the
+    /// plan's true integral register.
+    pub fn control_command(&mut self, t: f64, y: &State<B, N>) -> Option<Command<B, N>> {
+        match self.sensing.as_deref() {
+            Some(s) if s.estimating() => {
+                let ye = s.estimated(y);
+                self.command(S::<B>::lit(t), &ye)
+            }
+            _ => self.command(S::<B>::lit(t), y),
+        }
+    }
+
+    /// Whether the active segment's condition holds at the estimate of the
+    /// control instant `t` (what a flight computer's scheduler knows).
+    pub fn condition_holds_estimated(&mut self, t: f64, y: &State<B, N>) -> bool {
+        let ye = match self.sensing.as_deref() {
+            Some(s) => s.estimated(y),
+            None => *y,
+        };
+        self.condition_holds(t, &ye)
     }
 
     /// Whether the active segment ends on a condition checked after each

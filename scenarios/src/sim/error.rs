@@ -52,6 +52,14 @@ pub enum SimError {
     },
     /// A sink could not write (disk full, …).
     Output(OutputError),
+    /// A sensor's setting is out of range (before the first step), or a
+    /// sensor could not sample (at `t`).
+    Sensor {
+        /// When, s (0 for a setting).
+        t: f64,
+        /// The sensor's error, naming the field and the value.
+        source: sensors::SensorError,
+    },
 }
 
 /// A builder setting's error.
@@ -136,6 +144,8 @@ impl std::fmt::Display for SimError {
             SimError::Step { source, .. } => write!(f, "integrator: {source}"),
             SimError::Control { t, source } => write!(f, "controller: at t = {t}: {source}"),
             SimError::Output(e) => write!(f, "output: {e}"),
+            SimError::Sensor { t, source } if *t == 0.0 => write!(f, "sensors: {source}"),
+            SimError::Sensor { t, source } => write!(f, "sensors: at t = {t}: {source}"),
         }
     }
 }
@@ -150,6 +160,7 @@ impl std::error::Error for SimError {
             SimError::Step { source, .. } => Some(source),
             SimError::Control { source, .. } => Some(source),
             SimError::Output(e) => Some(e),
+            SimError::Sensor { source, .. } => Some(source),
             SimError::Setting { .. } | SimError::Layout { .. } => None,
         }
     }

@@ -38,9 +38,13 @@ mod emit;
 mod error;
 mod events;
 mod grid;
+mod instants;
 mod open_loop;
 mod output_types;
+mod readout;
+pub(crate) mod sense;
 pub use open_loop::OpenLoop;
+pub use readout::{MeasurementRecord, NavSample, Readout};
 pub(crate) mod record;
 mod sink;
 mod stepping;
@@ -196,6 +200,8 @@ pub(crate) struct Engine<'a, B: Backend, const N: usize, I> {
     vehicle: Box<dyn Vehicle<B> + 'a>,
     /// The air's velocity, evaluated at the vehicle at every load.
     wind: Option<Box<dyn Wind + 'a>>,
+    /// The sensors and the estimator, when the run has them.
+    sensing: Option<Box<sense::Sensing<'a, B>>>,
     plan: Vec<Segment<'a, B>>,
     stepper: I,
     /// The state now: the initial state until the run starts.
@@ -236,6 +242,7 @@ impl<'a, B: Backend> Simulation<'a, B> {
             stop: None,
             guard: DivergenceGuard::default(),
             warnings: Vec::new(),
+            sensing: sense::Settings::default(),
         }
     }
 }

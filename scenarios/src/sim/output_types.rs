@@ -45,6 +45,9 @@ pub struct Sample {
     pub vehicle_states: Vec<f64>,
     /// The wind at the vehicle, inertial, m/s (zero without one).
     pub wind: [f64; 3],
+    /// With sensors: the latest measurements and the estimate the mode
+    /// last read (`None` without sensors).
+    pub sensors: Option<Box<super::Readout>>,
 }
 
 /// A mode switch: its time, s, and the segments left and entered.
@@ -97,6 +100,9 @@ pub struct RunOutput {
     pub termination: Termination,
     /// The final state.
     pub last: Sample,
+    /// Every measurement the sensors took, in the order taken per step
+    /// (each carries its time; empty without sensors or recording).
+    pub measurements: Vec<super::MeasurementRecord>,
 }
 
 /// A located breakpoint crossing (the paper's sat′: a component of e_i

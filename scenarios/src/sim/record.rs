@@ -28,6 +28,7 @@ pub(crate) fn empty_sample() -> Sample {
         rotors: Vec::new(),
         vehicle_states: Vec::new(),
         wind: [0.0; 3],
+        sensors: None,
     }
 }
 
@@ -141,6 +142,7 @@ pub(crate) fn sample<B: Backend, const N: usize>(
     let cmd = command_at(sys, t, y)?;
     let mut s = empty_sample();
     s.t = t;
+    s.sensors = sys.sensing.as_deref().map(|sn| Box::new(sn.latest.clone()));
     s.x = lie::ops::vec3_f64::<B>(y.body.x);
     s.v = lie::ops::vec3_f64::<B>(y.body.v);
     s.r = lie::ops::mat3_f64::<B>(y.body.r);

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use super::{Sample, SwitchRecord};
+use super::{MeasurementRecord, Sample, SwitchRecord};
 
 /// A failed write, naming the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,6 +65,13 @@ pub trait Sink {
     fn switch(&mut self, sw: &SwitchRecord, mode: &str) -> Result<(), OutputError>;
     /// One sample.
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError>;
+    /// One sensor measurement, in a run with sensors (ignored by default).
+    /// They come in batches, after the samples of the same stretch of the
+    /// run; each carries its own time.
+    fn measurement(&mut self, m: &MeasurementRecord) -> Result<(), OutputError> {
+        let _ = m;
+        Ok(())
+    }
 }
 
 /// Several sinks fed the same calls, in order.
@@ -79,6 +86,9 @@ impl Sink for Tee<'_> {
     }
     fn sample(&mut self, smp: &Sample) -> Result<(), OutputError> {
         self.0.iter_mut().try_for_each(|s| s.sample(smp))
+    }
+    fn measurement(&mut self, m: &MeasurementRecord) -> Result<(), OutputError> {
+        self.0.iter_mut().try_for_each(|s| s.measurement(m))
     }
 }
 
@@ -112,5 +122,8 @@ impl<S: Sink> Sink for Watched<S> {
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
         self.last_t = Some(s.t);
         self.inner.sample(s)
+    }
+    fn measurement(&mut self, m: &MeasurementRecord) -> Result<(), OutputError> {
+        self.inner.measurement(m)
     }
 }

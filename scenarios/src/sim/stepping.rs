@@ -17,19 +17,19 @@ use lie::{Backend, Real, S, SimdReal};
 
 use super::closed_loop::{ClosedLoop, Layout, Parked};
 use super::emit::{Emit, Record};
-use super::events::{
-    Crossing, any_crossed, crossing, event_derivatives, locate_condition, split_at_crossing,
-};
+use super::events::{any_crossed, crossing, locate_condition};
 use super::grid::Grid;
+use super::instants::Cx;
 use super::record::{empty_sample, sample, track, track_figures};
+use super::sense;
 use super::{
-    BreakpointCrossing, Control, Divergence, DivergenceGuard, Engine, PsiRange, RunOptions,
-    RunOutput, Segment, SimError, Termination, Until,
+    Control, Divergence, DivergenceGuard, Engine, PsiRange, RunOptions, RunOutput, Segment,
+    SimError, Termination, Until,
 };
 
 /// After the step that follows a located crossing: the law picks its
 /// breakpoint branches from the state again.
-fn release<B: Backend, const N: usize>(
+pub(super) fn release<B: Backend, const N: usize>(
     sys: &mut ClosedLoop<'_, '_, B, N>,
     count: usize,
     forced: &mut bool,
@@ -167,6 +167,7 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
     let Engine {
         vehicle,
         wind,
+        sensing,
         plan,
         stepper,
         y,
@@ -188,9 +189,18 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
             message: format!("`{f}` was set to a value that is not finite"),
         });
     }
-    let mut sys = ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), plan, &r.parked);
+    let mut sys = ClosedLoop::resume(
+        vehicle.as_ref(),
+        wind.as_deref_mut(),
+        sensing.as_deref_mut(),
+        plan,
+        &r.parked,
+    );
     if !r.started {
         r.extrema = opts.extrema;
+        if let Some(s) = sys.sensing.as_deref_mut() {
+            s.keep = opts.record || opts.sink.is_some();
+        }
         r.rec.keep = opts.record;
         if !(opts.record || opts.sink.is_some()) {
             r.rec.rec = 0.0;
@@ -221,6 +231,9 @@ pub(crate) fn advance<B: Backend, const N: usize, I: Integrator<B, N>>(
         };
         result = lp.until(until, opts.progress, opts.cancel);
     }
+    if result.is_ok() {
+        result = super::sense::drain(&mut sys, &mut emit, &mut r.out);
+    }
     r.parked = sys.park();
     r.rec = emit.r;
     r.out.termination = r.done.unwrap_or(Termination::Interrupted { t: r.t });
@@ -237,6 +250,7 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     let Engine {
         vehicle,
         mut wind,
+        mut sensing,
         mut plan,
         mut y,
         mut running,
@@ -244,8 +258,13 @@ pub(crate) fn finish<B: Backend, const N: usize, I: Integrator<B, N>>(
     } = sim;
     let r = &mut *running;
     if r.done.is_none() {
-        let mut sys =
-            ClosedLoop::resume(vehicle.as_ref(), wind.as_deref_mut(), &mut plan, &r.parked);
+        let mut sys = ClosedLoop::resume(
+            vehicle.as_ref(),
+            wind.as_deref_mut(),
+            sensing.as_deref_mut(),
+            &mut plan,
+            &r.parked,
+        );
         let mut emit = Emit {
             r: r.rec,
             sink: None,
@@ -368,7 +387,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         // A condition switch (Ψ below a threshold, a user predicate): when
         // it holds at the end of this step, bisect on redone steps for the
         // first instant and switch there.
-        if sys.has_condition() && sys.condition_holds(ts, y) {
+        if sys.has_condition() && !sys.estimating() && sys.condition_holds(ts, y) {
             let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
             let step = (t, ts, h, before);
             let (bps, forced) = (&mut r.bps, &mut r.forced);
@@ -387,6 +406,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             };
             let (tc, y_c) = locate_condition(sys, *stepper, holds, (t, ts, h, before, y))?;
             emit.inside(&mut r.out, sys, *stepper, (t, before), (tc, &y_c))?;
+            sense::piece(sys, *stepper, (t, before), (tc, &y_c))?;
             **y = y_c;
             r.t = tc;
             let end = match r.diverged {
@@ -399,6 +419,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         // Samples inside the step, on the branches it was integrated on;
         // then the law decides its branches from the state again.
         emit.inside(&mut r.out, sys, *stepper, (t, before), (ts, y))?;
+        sense::piece(sys, *stepper, (t, before), (ts, y))?;
         release(sys, r.bps.len(), &mut r.forced);
         r.t = ts;
         r.j += 1;
@@ -485,6 +506,7 @@ fn empty_output(mode_names: Vec<&'static str>) -> RunOutput {
         max_orthogonality_error: 0.0,
         psi_range: PsiRange::EMPTY,
         last: empty_sample(),
+        measurements: Vec::new(),
     }
 }
 
@@ -546,7 +568,7 @@ fn finish_early<B: Backend, const N: usize>(
 
 /// The breakpoints of the active mode (none without event location),
 /// copied so that the loop can call the system while it walks them.
-fn breakpoints<B: Backend, const N: usize>(
+pub(super) fn breakpoints<B: Backend, const N: usize>(
     sys: &ClosedLoop<'_, '_, B, N>,
     locate_events: bool,
 ) -> Vec<Breakpoint<B>> {
@@ -571,9 +593,11 @@ fn begin<B: Backend, const N: usize>(
     vehicle_states_given: bool,
 ) -> Result<(), SimError> {
     let l = S::<B>::lit;
+    sense::start(sys, y)?;
     if sys.sampled {
-        sys.held = sys.command(l(0.0), y);
+        sys.held = sys.control_command(0.0, y);
     }
+    sense::after_first_command(sys, y)?;
     if sys.layout.vehicle_states > 0 && !vehicle_states_given {
         // Sampled: the command held from t = 0 is the first one (a mode is
         // asked once per control instant); continuous: ask for it.
@@ -613,182 +637,4 @@ fn report_progress(progress: Option<&mut (dyn FnMut(f64) + '_)>, done: f64, next
         p(done);
         *next = (done + 0.005).min(1.0);
     }
-}
-
-/// Makes the next segment active at `t` (if there is one), reports the
-/// switch, and returns the new mode's breakpoints.
-fn switch_segment<B: Backend, const N: usize>(
-    sys: &mut ClosedLoop<'_, '_, B, N>,
-    emit: &mut Emit<'_, '_>,
-    out: &mut RunOutput,
-    t: f64,
-    y: &mut State<B, N>,
-    locate_events: bool,
-) -> Result<Option<Vec<Breakpoint<B>>>, SimError> {
-    match sys.switch(t, y) {
-        Some(sw) => {
-            emit.switch(out, sw)?;
-            Ok(Some(breakpoints(sys, locate_events)))
-        }
-        None => Ok(None),
-    }
-}
-
-/// What a switch or a control instant touches: the loop, the sample
-/// stream and the run's output.
-struct Cx<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> {
-    sys: &'c mut ClosedLoop<'s, 'a, B, N>,
-    emit: &'c mut Emit<'o, 'k>,
-    out: &'c mut RunOutput,
-    locate_events: bool,
-}
-
-impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N> {
-    fn new(
-        sys: &'c mut ClosedLoop<'s, 'a, B, N>,
-        emit: &'c mut Emit<'o, 'k>,
-        out: &'c mut RunOutput,
-        locate_events: bool,
-    ) -> Self {
-        Self {
-            sys,
-            emit,
-            out,
-            locate_events,
-        }
-    }
-
-    /// A located breakpoint crossing `c` inside the step `(t, h, before)`: the
-    /// step redone up to it (`y` becomes the state there), the samples inside
-    /// taken on the branch that part was integrated on (sat′ changes Ω̇
-    /// through the integral term's rate), the crossing counted, tracked and
-    /// sampled; the law is left forced onto the far branch. Returns its time
-    /// and the grid phase from there (see `Running::phase`; `phase` is the
-    /// step's).
-    fn at_crossing<I: Integrator<B, N>>(
-        &mut self,
-        stepper: &mut I,
-        c: &Crossing<B>,
-        (t, h, before): (f64, f64, &State<B, N>),
-        phase: S<B>,
-        y: &mut State<B, N>,
-    ) -> Result<(f64, S<B>), SimError> {
-        let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
-        let split = split_at_crossing(sys, stepper, c, (t, h, before, phase), y)?;
-        let (tc, pre, post) = (split.t, split.pre, split.post);
-        out.steps += split.steps;
-        sys.plan[sys.active].mode.force_branch(c.index, pre);
-        emit.inside(out, sys, stepper, (t, before), (tc, y))?;
-        sys.plan[sys.active].mode.force_branch(c.index, post);
-        track_figures(out, sys, tc, y)?;
-        emit.exact(out, sys, tc, y)?;
-        out.events += 1;
-        out.event_times.push(BreakpointCrossing {
-            t: tc,
-            component: c.index,
-        });
-        Ok((tc, split.phase))
-    }
-
-    /// The active segment's condition holds at the end of the step
-    /// `(t, ts, h, before)` (state `y`): the first instant it holds,
-    /// located by bisection on redone steps; the samples up to it; the
-    /// switch there (`bps` becomes the new mode's breakpoints), a new held
-    /// command under sampled control, the figures and sample at it, and a
-    /// stepper restart. `y` becomes the state there; returns its time and
-    /// the grid phase from there (`phase` is the step's; see
-    /// `Running::phase`).
-    fn at_condition<I: Integrator<B, N>>(
-        &mut self,
-        stepper: &mut I,
-        (t, ts, h, before): (f64, f64, f64, &State<B, N>),
-        phase: S<B>,
-        y: &mut State<B, N>,
-        bps: &mut Vec<Breakpoint<B>>,
-        forced: &mut bool,
-    ) -> Result<(f64, S<B>), SimError> {
-        let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
-        let holds = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt, yy: &_| s.condition_holds(tt, yy);
-        let (tc, mut y_c) = locate_condition(sys, stepper, holds, (t, ts, h, before, y))?;
-        let mut next_phase = S::<B>::lit(0.0);
-        if S::<B>::CARRIES_DERIVATIVES {
-            let step = (t, tc, h, before, phase);
-            next_phase = switch_derivatives(sys, stepper, step, &mut y_c)?;
-        }
-        emit.inside(out, sys, stepper, (t, before), (tc, &y_c))?;
-        release(sys, bps.len(), forced);
-        *y = y_c;
-        if let Some(b) = switch_segment(sys, emit, out, tc, y, self.locate_events)? {
-            *bps = b;
-        }
-        if sys.sampled {
-            sys.held = sys.command(S::<B>::lit(tc), y);
-        }
-        track_figures(out, sys, tc, y)?;
-        emit.exact(out, sys, tc, y)?;
-        stepper.reset();
-        Ok((tc, next_phase))
-    }
-
-    /// At a checkpoint `t` (state `y`): the next segment when `switch_due`
-    /// and the active one ends at a time, a new held command under sampled
-    /// control after a switch or at a control instant, and a stepper
-    /// restart after either. Returns the new mode's breakpoints after a
-    /// switch.
-    fn at_checkpoint<I: Integrator<B, N>>(
-        &mut self,
-        stepper: &mut I,
-        t: f64,
-        y: &mut State<B, N>,
-        switch_due: bool,
-        control_due: bool,
-    ) -> Result<Option<Vec<Breakpoint<B>>>, SimError> {
-        let sys = &mut *self.sys;
-        // Only a segment that ends at a time is left here (one waiting for
-        // its condition stays active past a later segment's time).
-        let leaves = switch_due
-            && sys
-                .plan
-                .get(sys.active)
-                .is_some_and(|s| matches!(s.until, Until::Time(u) if u <= t));
-        let new = if leaves {
-            switch_segment(sys, self.emit, self.out, t, y, self.locate_events)?
-        } else {
-            None
-        };
-        let mut changed = new.is_some();
-        if sys.sampled && (changed || control_due) {
-            sys.held = sys.command(S::<B>::lit(t), y);
-            changed = true;
-        }
-        if changed {
-            stepper.reset();
-        }
-        Ok(new)
-    }
-}
-
-/// A dual run's derivatives at a located switch (see `event_derivatives`):
-/// the residual is `Ψ − threshold`. A switch on a user predicate has no
-/// residual, so its time's derivative is unknown: an error rather than a
-/// gradient that silently leaves it out.
-fn switch_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
-    sys: &mut ClosedLoop<'_, '_, B, N>,
-    stepper: &mut I,
-    step: (f64, f64, f64, &State<B, N>, S<B>),
-    y: &mut State<B, N>,
-) -> Result<S<B>, SimError> {
-    if !matches!(sys.plan[sys.active].until, Until::PsiBelow(_)) {
-        return Err(SimError::Setting {
-            field: "plan",
-            message: "a switch on a user predicate cannot be differentiated (its time's \
-                      derivative needs a residual): end the segment on Ψ or at a time"
-                .into(),
-        });
-    }
-    let residual = &mut |s: &mut ClosedLoop<'_, '_, B, N>, tt: f64, yy: &State<B, N>| {
-        s.condition_residual(S::<B>::lit(tt), yy)
-            .unwrap_or_else(<S<B> as Real>::nan)
-    };
-    event_derivatives(sys, stepper, residual, step, y)
 }
