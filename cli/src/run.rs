@@ -58,6 +58,18 @@ pub struct RunArgs {
     /// the scene's].
     #[arg(long, allow_negative_numbers = true)]
     pub control_rate: Option<f64>,
+    /// The sensors the vehicle carries, a suite by name: rotorpy,
+    /// crazyflie, mpu9250, fdcl-gazebo [default: the scene's].
+    #[arg(long, value_name = "PRESET")]
+    pub sensors: Option<String>,
+    /// What the flight modes read: none (the true state) or mocap (the
+    /// latest motion-capture frame; needs sampled control) [default: the
+    /// scene's].
+    #[arg(long, value_parser = ["none", "mocap"])]
+    pub estimator: Option<String>,
+    /// Seed of the sensor noise [default: the scene's].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Print the scene as TOML with the options above applied (every
     /// value a run would use), and exit without running.
     #[arg(long)]
@@ -98,6 +110,9 @@ pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, SceneError> {
             _ => BackendKind::Nalgebra,
         }),
         no_integral: a.no_integral,
+        sensors: a.sensors.clone(),
+        estimator: a.estimator.as_deref().and_then(|e| e.parse().ok()),
+        seed: a.seed,
     };
     overrides.apply(scene)
 }

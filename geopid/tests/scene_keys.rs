@@ -7,7 +7,8 @@
 
 use geopid::scenes::builtin;
 use geopid::scenes::scene::{
-    AttitudeRef, MultirotorSpec, PositionRef, Preset, Scene, SegmentSpec, ThrustSpec, WindSpec,
+    AttitudeRef, EstimatorKind, EstimatorSpec, MultirotorSpec, PositionRef, Preset, Scene,
+    SegmentSpec, SensorsSpec, ThrustSpec, WindSpec,
 };
 
 const CHAPTER: &str = include_str!("../guide/02-scenes.md");
@@ -36,6 +37,17 @@ fn populated() -> Scene {
         rotor_directions: Some(vec![1.0]),
     });
     s.plan[0].until_psi = Some(0.1);
+    s.seed = 7;
+    s.sensors = Some(SensorsSpec {
+        preset: "rotorpy".into(),
+        noise_scale: 1.0,
+        mocap_latency: Some(0.01),
+        mocap_rate: Some(100.0),
+    });
+    s.estimator = Some(EstimatorSpec {
+        kind: EstimatorKind::Mocap,
+        gyro_rates: true,
+    });
     s
 }
 

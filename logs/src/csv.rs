@@ -19,8 +19,68 @@ fn push_num(buf: &mut Vec<u8>, x: f64) {
 /// ‖e_x‖, f, M.
 const CSV_FIXED: usize = 25;
 
-/// A row's numbers in column order: the fixed ones, then the vehicle's
-/// states.
+/// Numbers a run with sensors adds after the vehicle's states: the
+/// estimate (x, v, R by rows, Ω), the latest accelerometer and gyroscope
+/// readings, motion-capture and GPS positions and barometric height, each
+/// `NaN` where the run has not got it.
+const SENSOR_COLUMNS: usize = 31;
+
+/// The names of the [`SENSOR_COLUMNS`], comma first.
+fn sensor_header() -> String {
+    let mut h = String::new();
+    let mut add = |prefix: &str, n: usize| {
+        for k in 1..=n {
+            h.push_str(&format!(",{prefix}{k}"));
+        }
+    };
+    add("est_x", 3);
+    add("est_v", 3);
+    for i in 1..=3 {
+        add(&format!("est_r{i}"), 3);
+    }
+    add("est_w", 3);
+    add("acc", 3);
+    add("gyr", 3);
+    add("mocap_x", 3);
+    add("gps_x", 3);
+    h.push_str(",baro_h");
+    h
+}
+
+/// The sensor columns of `s` (nothing without sensors).
+fn sensor_numbers(s: &Sample, out: &mut Vec<f64>) {
+    let Some(r) = s.sensors.as_deref() else {
+        return;
+    };
+    let nan3 = [f64::NAN; 3];
+    match &r.estimate {
+        Some(e) => {
+            out.extend_from_slice(&e.x);
+            out.extend_from_slice(&e.v);
+            e.r.iter().for_each(|row| out.extend_from_slice(row));
+            out.extend_from_slice(&e.omega);
+        }
+        None => out.extend_from_slice(&[f64::NAN; 18]),
+    }
+    for v in [r.accel, r.gyro, r.mocap_x, r.gps_x] {
+        out.extend_from_slice(&v.unwrap_or(nan3));
+    }
+    out.push(r.baro.unwrap_or(f64::NAN));
+}
+
+/// The width of `s`'s row.
+fn row_width(s: &Sample) -> usize {
+    CSV_FIXED
+        + s.vehicle_states.len()
+        + if s.sensors.is_some() {
+            SENSOR_COLUMNS
+        } else {
+            0
+        }
+}
+
+/// A row's numbers in column order: the fixed ones, the vehicle's states,
+/// then the sensor columns of a run with sensors.
 fn csv_numbers(s: &Sample, out: &mut Vec<f64>) {
     out.push(s.t);
     out.extend_from_slice(&s.x);
@@ -30,6 +90,7 @@ fn csv_numbers(s: &Sample, out: &mut Vec<f64>) {
     out.extend_from_slice(&[s.psi, s.ex, s.thrust]);
     out.extend_from_slice(&s.moment);
     out.extend_from_slice(&s.vehicle_states);
+    sensor_numbers(s, out);
 }
 
 /// Formats one row (no line end) from its numbers and mode.
@@ -46,7 +107,7 @@ fn push_csv_row_from(row: &mut Vec<u8>, nums: &[f64], mode: &str) {
 }
 
 fn push_csv_row(row: &mut Vec<u8>, s: &Sample) {
-    let mut nums = Vec::with_capacity(CSV_FIXED + s.vehicle_states.len());
+    let mut nums = Vec::with_capacity(row_width(s));
     csv_numbers(s, &mut nums);
     push_csv_row_from(row, &nums, s.mode);
 }
@@ -73,6 +134,8 @@ pub fn csv_header(n: usize) -> String {
 /// modes.
 struct CsvBatch {
     width: usize,
+    /// The rows end with the sensor columns.
+    sensors: bool,
     nums: Vec<f64>,
     modes: Vec<&'static str>,
 }
@@ -95,7 +158,11 @@ fn write_csv_batches(mut file: File, (rx, back): WorkerEnds<CsvBatch>) -> std::i
     for mut b in rx {
         if !header {
             header = true;
-            out.extend_from_slice(csv_header(b.width - CSV_FIXED).as_bytes());
+            let extra = if b.sensors { SENSOR_COLUMNS } else { 0 };
+            out.extend_from_slice(csv_header(b.width - CSV_FIXED - extra).as_bytes());
+            if b.sensors {
+                out.extend_from_slice(sensor_header().as_bytes());
+            }
             out.push(b'\n');
         }
         for (nums, mode) in b.nums.chunks_exact(b.width).zip(&b.modes) {
@@ -145,6 +212,7 @@ impl CsvWriter {
             target,
             batch: CsvBatch {
                 width: 0,
+                sensors: false,
                 nums: Vec::new(),
                 modes: Vec::new(),
             },
@@ -159,11 +227,16 @@ impl CsvWriter {
     }
 
     fn send(&mut self) -> Result<(), OutputError> {
-        let width = self.batch.width;
+        let (width, sensors) = (self.batch.width, self.batch.sensors);
         let next = match self.worker.recycled() {
-            Some(b) => CsvBatch { width, ..b },
+            Some(b) => CsvBatch {
+                width,
+                sensors,
+                ..b
+            },
             None => CsvBatch {
                 width,
+                sensors,
                 nums: Vec::with_capacity(width * CSV_BATCH),
                 modes: Vec::with_capacity(CSV_BATCH),
             },
@@ -194,16 +267,16 @@ impl Sink for CsvWriter {
         Ok(())
     }
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
-        let width = CSV_FIXED + s.vehicle_states.len();
+        let width = row_width(s);
         if self.batch.width == 0 {
             self.batch.width = width;
-        } else if width != self.batch.width {
+            self.batch.sensors = s.sensors.is_some();
+        } else if width != self.batch.width || s.sensors.is_some() != self.batch.sensors {
             return Err(err(
                 &self.path,
                 format!(
-                    "a sample with {} vehicle states after rows with {}: the columns are fixed by the first",
-                    s.vehicle_states.len(),
-                    self.batch.width - CSV_FIXED
+                    "a sample {} columns after rows of {}: the columns are fixed by the first",
+                    width, self.batch.width
                 ),
             ));
         }

@@ -33,7 +33,8 @@ mod proto;
 mod table_log;
 pub use csv::{CsvWriter, csv_header, csv_row, write_csv};
 pub use mcap_file::{
-    McapWriter, STATES_TOPIC, STATIC_TF_NS, TOPICS, WIND_TOPIC, msg, quaternion_xyzw, write_mcap,
+    McapWriter, SENSOR_TOPICS, STATES_TOPIC, STATIC_TF_NS, TOPICS, WIND_TOPIC, msg,
+    quaternion_xyzw, write_mcap,
 };
 pub use paths::{PathError, check_paths, is_stdout};
 pub use table_log::{Table, write_tables};

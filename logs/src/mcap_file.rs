@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::mcap_chunks::ChunkedMcap;
 use super::*;
-use scenarios::{RunOutput, Sample, SwitchRecord};
+use scenarios::{MeasurementRecord, RunOutput, Sample, SwitchRecord};
 
 /// Unit quaternion `(x, y, z, w)` (Foxglove's order, `w ≥ 0`) of a rotation
 /// matrix given by rows, through `lie::shepperd` (largest pivot, no
@@ -28,6 +28,20 @@ pub const STATES_TOPIC: &str = "/vehicle/states";
 /// The topic of the wind at the vehicle (`foxglove.Vector3`, inertial,
 /// m/s), written from the first sample with a non-zero wind on.
 pub const WIND_TOPIC: &str = "/wind";
+
+/// The topics of a run with sensors, each created at its first message:
+/// every IMU sample ([`msg::ImuReading`]), motion-capture frame
+/// ([`msg::MocapFrame`]), GPS fix ([`msg::GpsFix`]) and barometer sample
+/// ([`msg::BaroReading`]) at the time it describes, and the estimate the
+/// modes read at each record sample (`foxglove.PoseInFrame` in `ned`,
+/// beside `/vehicle/pose`).
+pub const SENSOR_TOPICS: [&str; 5] = [
+    "/sensors/imu",
+    "/sensors/mocap",
+    "/sensors/gps",
+    "/sensors/baro",
+    "/estimate/pose",
+];
 
 /// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]
 /// and [`WIND_TOPIC`]).
@@ -108,6 +122,57 @@ pub mod msg {
     pub struct VehicleStates {
         /// In the vehicle's own order.
         pub states: Vec<f64>,
+    }
+
+    /// `/sensors/imu`: one IMU sample, in the sensor's axes.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct ImuReading {
+        /// Its time, s.
+        pub t: f64,
+        /// Specific force, m/s² (a level IMU at rest reads −g along b3).
+        pub accel: Vector3,
+        /// Angular rate, rad/s.
+        pub gyro: Vector3,
+    }
+
+    /// `/sensors/mocap`: one motion-capture frame (world frame `ned`, rates
+    /// in the body frame).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct MocapFrame {
+        /// Capture time, s.
+        pub t: f64,
+        /// Arrival time (capture plus latency), s.
+        pub arrival: f64,
+        /// m.
+        pub position: Vector3,
+        /// m/s.
+        pub velocity: Vector3,
+        /// Attitude, body to world.
+        pub orientation: Quaternion,
+        /// Body rates, rad/s.
+        pub omega: Vector3,
+    }
+
+    /// `/sensors/gps`: one GPS fix (world frame `ned`).
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct GpsFix {
+        /// The instant it describes, s.
+        pub t: f64,
+        /// Arrival time (plus the delay), s.
+        pub arrival: f64,
+        /// m.
+        pub position: Vector3,
+        /// m/s.
+        pub velocity: Vector3,
+    }
+
+    /// `/sensors/baro`: one barometer sample.
+    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+    pub struct BaroReading {
+        /// Its time, s.
+        pub t: f64,
+        /// Height above the origin, m (up).
+        pub height: f64,
     }
 }
 
@@ -191,6 +256,9 @@ const BATCH: usize = 1024;
 const STATES_SLOT: u8 = 7;
 /// The channel slot of `/wind` (created at its first message).
 const WIND_SLOT: u8 = 8;
+/// The channel slots of [`SENSOR_TOPICS`] (created at their first
+/// messages).
+const SENSOR_SLOTS: [u8; 5] = [9, 10, 11, 12, 13];
 
 type Mcap = ChunkedMcap<BufWriter<File>>;
 
@@ -212,9 +280,9 @@ fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> std::io::Result
 struct Channels {
     w: Mcap,
     ch: [u16; 7],
-    seq: [u32; 9],
+    seq: [u32; 14],
     /// Channels created on demand: (slot, topic, schema, id once created).
-    lazy: [(u8, &'static str, Option<foxglove::Schema>, Option<u16>); 2],
+    lazy: [(u8, &'static str, Option<foxglove::Schema>, Option<u16>); 7],
     messages: u64,
 }
 
@@ -224,10 +292,40 @@ impl Channels {
         Self {
             w,
             ch,
-            seq: [0; 9],
+            seq: [0; 14],
             lazy: [
                 (STATES_SLOT, STATES_TOPIC, states, None),
                 (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
+                (
+                    SENSOR_SLOTS[0],
+                    SENSOR_TOPICS[0],
+                    msg::ImuReading::get_schema(),
+                    None,
+                ),
+                (
+                    SENSOR_SLOTS[1],
+                    SENSOR_TOPICS[1],
+                    msg::MocapFrame::get_schema(),
+                    None,
+                ),
+                (
+                    SENSOR_SLOTS[2],
+                    SENSOR_TOPICS[2],
+                    msg::GpsFix::get_schema(),
+                    None,
+                ),
+                (
+                    SENSOR_SLOTS[3],
+                    SENSOR_TOPICS[3],
+                    msg::BaroReading::get_schema(),
+                    None,
+                ),
+                (
+                    SENSOR_SLOTS[4],
+                    SENSOR_TOPICS[4],
+                    PoseInFrame::get_schema(),
+                    None,
+                ),
             ],
             messages: 0,
         }
@@ -460,6 +558,24 @@ impl McapWriter {
         self.worker.send(batch)
     }
 
+    /// Queues `m`, encoded here, on channel slot `slot` at `t`.
+    fn put_encoded(
+        &mut self,
+        slot: u8,
+        t: f64,
+        m: &impl foxglove::Encode,
+    ) -> Result<(), OutputError> {
+        let before = self.batch.bytes.len();
+        m.encode(&mut self.batch.bytes)
+            .map_err(|x| err(&self.path, x))?;
+        let len = self.batch.bytes.len() - before;
+        self.push(Item::Encoded {
+            slot,
+            ns: nanos(t),
+            len,
+        })
+    }
+
     fn put_switch(&mut self, t: f64, from: usize, to: usize) -> Result<(), OutputError> {
         let name = self.mode_names.get(to).copied().unwrap_or("none");
         let m = msg::ModeSwitch {
@@ -535,7 +651,72 @@ impl Sink for McapWriter {
         self.put_switch(sw.t, sw.from, sw.to)
     }
 
+    fn measurement(&mut self, m: &MeasurementRecord) -> Result<(), OutputError> {
+        let v = |a: [f64; 3]| msg::Vector3 {
+            x: a[0],
+            y: a[1],
+            z: a[2],
+        };
+        match *m {
+            MeasurementRecord::Imu { t, accel, gyro } => {
+                let m = msg::ImuReading {
+                    t,
+                    accel: v(accel),
+                    gyro: v(gyro),
+                };
+                self.put_encoded(SENSOR_SLOTS[0], t, &m)
+            }
+            MeasurementRecord::Mocap { t, arrival, state } => {
+                let [x, y, z, w] = quaternion_xyzw(&state.r);
+                let m = msg::MocapFrame {
+                    t,
+                    arrival,
+                    position: v(state.x),
+                    velocity: v(state.v),
+                    orientation: msg::Quaternion { x, y, z, w },
+                    omega: v(state.omega),
+                };
+                self.put_encoded(SENSOR_SLOTS[1], t, &m)
+            }
+            MeasurementRecord::Gps {
+                t,
+                arrival,
+                x,
+                v: vel,
+            } => {
+                let m = msg::GpsFix {
+                    t,
+                    arrival,
+                    position: v(x),
+                    velocity: v(vel),
+                };
+                self.put_encoded(SENSOR_SLOTS[2], t, &m)
+            }
+            MeasurementRecord::Baro { t, height } => {
+                self.put_encoded(SENSOR_SLOTS[3], t, &msg::BaroReading { t, height })
+            }
+            _ => Ok(()),
+        }
+    }
+
     fn sample(&mut self, s: &Sample) -> Result<(), OutputError> {
+        if let Some(e) = s.sensors.as_deref().and_then(|r| r.estimate) {
+            let [x, y, z, w] = quaternion_xyzw(&e.r);
+            let (sec, nsec) = proto::sec_nsec(nanos(s.t));
+            let pose = PoseInFrame {
+                timestamp: Some(msg::Timestamp::new(sec, nsec)),
+                frame_id: "ned".into(),
+                pose: Some(msg::Pose {
+                    position: Some(msg::Vector3 {
+                        x: e.x[0],
+                        y: e.x[1],
+                        z: e.x[2],
+                    }),
+                    orientation: Some(msg::Quaternion { x, y, z, w }),
+                }),
+            };
+            self.put_encoded(SENSOR_SLOTS[4], s.t, &pose)?;
+        }
         self.batch.samples.push(Fixed::of(s));
         self.batch.extra.extend_from_slice(&s.rotors);
         self.batch.extra.extend_from_slice(&s.vehicle_states);
@@ -557,6 +738,9 @@ pub fn write_mcap(path: &Path, out: &RunOutput) -> Result<u64, OutputError> {
             w.switch(sw, "")?;
         }
         w.sample(s)?;
+    }
+    for m in &out.measurements {
+        w.measurement(m)?;
     }
     let stopped = out.interrupted_at().map(|t| Stopped {
         t,

@@ -299,3 +299,43 @@ fn bad_sensor_settings_are_refused() {
     let e = build(mocap_only(neg), false, &scene);
     assert!(e.contains("mocap.position_sigma = -1"), "{e}");
 }
+
+/// The same seed gives the same measurements and flight, recorded or not;
+/// another seed other noise; and a sensor's noise does not change when
+/// another sensor is added (its stream is keyed on its own number).
+#[test]
+fn noise_is_keyed_on_the_seed_and_the_sensor() {
+    let scene = figure_eight();
+    let fly = |suite: SensorSuite, seed: u64, record: bool| {
+        let out = scenes::builder::<B>(&scene)
+            .unwrap()
+            .sensors(suite, seed)
+            .estimator(Box::new(MocapEstimator::<B>::new()))
+            .build()
+            .unwrap()
+            .run(RunOptions {
+                record,
+                ..Default::default()
+            })
+            .unwrap();
+        let frames: Vec<[f64; 3]> = out
+            .measurements
+            .iter()
+            .filter_map(|m| match m {
+                MeasurementRecord::Mocap { state, .. } => Some(state.x),
+                _ => None,
+            })
+            .collect();
+        (frames, out.last.x)
+    };
+    let rotorpy = SensorSuite::preset("rotorpy").unwrap();
+    let mocap = mocap_only(rotorpy.mocap.unwrap());
+    let (a, end_a) = fly(rotorpy, 9, true);
+    let (_, end_unrecorded) = fly(rotorpy, 9, false);
+    let (b, end_b) = fly(mocap, 9, true);
+    let (c, _) = fly(rotorpy, 10, true);
+    assert_eq!(end_a, end_unrecorded, "recording changes nothing");
+    assert_eq!(a, b, "the IMU on or off leaves the mocap's noise and the flight alone");
+    assert_eq!(end_a, end_b);
+    assert_ne!(a[5], c[5], "another seed, other noise");
+}

@@ -22,6 +22,9 @@ fn base(name: &str, description: &str, duration: f64) -> Scene {
         integrator: IntegratorSpec::default(),
         control: ControlSpec::default(),
         record: RecordSpec::default(),
+        seed: 0,
+        sensors: None,
+        estimator: None,
     }
 }
 

@@ -38,6 +38,13 @@ pub struct Overrides {
     /// Zero both integral gains (the paper's comparison without integral
     /// terms).
     pub no_integral: bool,
+    /// A sensor suite by name (`[sensors] preset`), in place of the
+    /// scene's sensors.
+    pub sensors: Option<String>,
+    /// What the modes read (`[estimator] kind`).
+    pub estimator: Option<crate::scene::EstimatorKind>,
+    /// The seed of the run's random numbers.
+    pub seed: Option<u64>,
 }
 
 impl Overrides {
@@ -77,6 +84,21 @@ impl Overrides {
             scene.gains.k_i = 0.0;
             scene.gains.k_att_i = 0.0;
         }
+        if let Some(p) = &self.sensors {
+            scene.sensors = Some(crate::scene::SensorsSpec {
+                preset: p.clone(),
+                noise_scale: 1.0,
+                mocap_latency: None,
+                mocap_rate: None,
+            });
+        }
+        if let Some(kind) = self.estimator {
+            scene.estimator = Some(crate::scene::EstimatorSpec {
+                kind,
+                gyro_rates: false,
+            });
+        }
+        scene.seed = self.seed.unwrap_or(scene.seed);
         scene
             .validate()
             .map_err(|(k, msg)| SceneError::at_key(k, msg))?;
@@ -101,8 +123,28 @@ mod tests {
             scalar: Some(Scalar::F32),
             backend: Some(BackendKind::Glam),
             no_integral: true,
+            sensors: Some("crazyflie".into()),
+            estimator: Some(crate::scene::EstimatorKind::Mocap),
+            seed: Some(4),
         };
         let s = o.apply(scene.clone()).unwrap();
+        assert_eq!(s.sensors.as_ref().map(|p| p.preset.as_str()), Some("crazyflie"));
+        assert_eq!(s.estimator.as_ref().map(|e| e.kind.name()), Some("mocap"));
+        assert_eq!(s.seed, 4);
+        let unknown = Overrides {
+            sensors: Some("vicon".into()),
+            ..Default::default()
+        };
+        let e = unknown.apply(scene.clone()).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("sensors.preset"));
+        assert!(e.message.contains("\"vicon\""), "{}", e.message);
+        let continuous = Overrides {
+            sensors: Some("rotorpy".into()),
+            estimator: Some(crate::scene::EstimatorKind::Mocap),
+            ..Default::default()
+        };
+        let e = continuous.apply(scene.clone()).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("estimator.kind"));
         assert_eq!(s.integrator.kind, "rk4");
         assert_eq!((s.integrator.dt, s.integrator.tol), (2e-4, 1e-8));
         assert_eq!((s.duration, s.record.sample), (1.5, 0.01));

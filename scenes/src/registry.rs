@@ -416,6 +416,7 @@ pub fn builder_from<B: Backend>(
                 rate: scene.control.rate,
             },
         });
+    b = with_sensing(scene, b)?;
     for seg in plan {
         b = b.segment(seg);
     }
@@ -755,4 +756,29 @@ impl<'a> Seeds<'a> {
     pub fn any(&self, prefix: &str) -> bool {
         self.names.iter().any(|n| n.starts_with(prefix))
     }
+}
+
+/// `b` with the scene's sensors and estimator.
+fn with_sensing<B: Backend>(
+    scene: &Scene,
+    mut b: SimulationBuilder<'static, B>,
+) -> Result<SimulationBuilder<'static, B>, Error> {
+    let Some(spec) = &scene.sensors else {
+        return Ok(b);
+    };
+    let suite = spec.suite().map_err(|(k, msg)| Error::at_key(k, msg))?;
+    b = b.sensors(suite, scene.seed);
+    if let Some(e) = &scene.estimator
+        && e.kind == crate::scene::EstimatorKind::Mocap
+    {
+        let est = match (e.gyro_rates, suite.imu) {
+            (true, Some(imu)) => {
+                let r_bs = lie::ops::from_elems::<B>(imu.mounting.map(|r| r.map(S::<B>::lit)));
+                sensors::MocapEstimator::<B>::with_gyro_rates(r_bs)
+            }
+            _ => sensors::MocapEstimator::<B>::new(),
+        };
+        b = b.estimator(Box::new(est));
+    }
+    Ok(b)
 }

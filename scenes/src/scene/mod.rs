@@ -8,12 +8,14 @@ use serde::{Deserialize, Serialize};
 
 mod format;
 mod locate;
+mod sensing;
 mod validate;
 mod wind;
 
 pub use crate::error::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
 use locate::{line_col, locate_error};
+pub use sensing::{EstimatorKind, EstimatorSpec, SensorsSpec};
 pub use wind::WindSpec;
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are
@@ -74,6 +76,20 @@ pub struct Scene {
     /// What to record.
     #[serde(default)]
     pub record: RecordSpec,
+    /// The seed of every random number the run draws (sensor noise); a
+    /// Monte Carlo sample adds its index.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub seed: u64,
+    /// The sensors the vehicle carries (none by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<SensorsSpec>,
+    /// What the flight modes read (the true state by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimator: Option<EstimatorSpec>,
+}
+
+fn is_zero(x: &u64) -> bool {
+    *x == 0
 }
 
 /// Scalar type of the simulation.

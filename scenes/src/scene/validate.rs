@@ -38,6 +38,7 @@ impl Scene {
         pos("duration", self.duration)?;
         self.validate_vehicle()?;
         self.validate_settings()?;
+        self.validate_sensing()?;
         let mut last = 0.0;
         for (k, seg) in self.plan.iter().enumerate() {
             self.validate_segment(k, seg, &mut last)?;
