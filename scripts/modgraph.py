@@ -43,7 +43,7 @@ LAYERS = {
     ],
     "studies": [
         ("metrics", ["metrics"]),
-        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity"]),
+        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity", "sensing"]),
         ("figures", ["figures"]),
     ],
 }

@@ -40,3 +40,7 @@ pub mod performance {
 pub mod design {
     #![doc = include_str!("../guide/13-design.md")]
 }
+pub mod flying_on_sensors {
+    #![doc = include_str!("../guide/14-sensors.md")]
+    #![doc = include_str!("../guide/figures/sensing.md")]
+}

@@ -335,7 +335,10 @@ fn noise_is_keyed_on_the_seed_and_the_sensor() {
     let (b, end_b) = fly(mocap, 9, true);
     let (c, _) = fly(rotorpy, 10, true);
     assert_eq!(end_a, end_unrecorded, "recording changes nothing");
-    assert_eq!(a, b, "the IMU on or off leaves the mocap's noise and the flight alone");
+    assert_eq!(
+        a, b,
+        "the IMU on or off leaves the mocap's noise and the flight alone"
+    );
     assert_eq!(end_a, end_b);
     assert_ne!(a[5], c[5], "another seed, other noise");
 }

@@ -128,7 +128,10 @@ mod tests {
             seed: Some(4),
         };
         let s = o.apply(scene.clone()).unwrap();
-        assert_eq!(s.sensors.as_ref().map(|p| p.preset.as_str()), Some("crazyflie"));
+        assert_eq!(
+            s.sensors.as_ref().map(|p| p.preset.as_str()),
+            Some("crazyflie")
+        );
         assert_eq!(s.estimator.as_ref().map(|e| e.kind.name()), Some("mocap"));
         assert_eq!(s.seed, 4);
         let unknown = Overrides {

@@ -31,21 +31,9 @@ use std::hint::black_box;
 #[path = "../../controllers/benches/common/hand.rs"]
 mod hand_twin;
 
-/// Largest |Δx| (m) and |ΔR| (matrix elements) between two final samples.
-/// The loop alone: no samples, and no per-step extrema (one controller
-/// evaluation per step, which the hand-written twins do not do either).
-fn quiet(s: &Scene) {
-    let out = run(
-        s,
-        RunOptions {
-            record: false,
-            extrema: false,
-            ..Default::default()
-        },
-    )
-    .expect("run");
-    black_box(out.last.psi);
-}
+#[path = "shared/quiet.rs"]
+mod shared;
+use shared::quiet;
 
 /// The hand-written closed loop: state, vector field, RK4 step.
 macro_rules! hand_loop {

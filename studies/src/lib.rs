@@ -6,6 +6,7 @@
 //! | [`metrics`] | metrics over recorded samples, and the work-precision sweep |
 //! | [`gains`] | the conditions of Propositions 2 and 3 for a scene's gains, and a search for gains that meet them |
 //! | [`montecarlo`] | many runs from random initial conditions, classified, with statistics and confidence bounds |
+//! | [`sensing`] | flying on measurements: RMS error against the motion capture's latency and the sensors' noise |
 //! | [`sensitivity`] | exact derivatives of a whole run with respect to a scene's numbers, and gain tuning on them |
 //! | [`regress`] | the regression suite: every built-in scene against independently computed expectations |
 //! | [`stress`] | the numerical stress suite: long horizons, non-finite loads, rates, precision |
@@ -29,5 +30,6 @@ pub mod gains;
 pub mod metrics;
 pub mod montecarlo;
 pub mod regress;
+pub mod sensing;
 pub mod sensitivity;
 pub mod stress;

@@ -76,6 +76,12 @@ pub fn nan_max(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The RMS of ‖x − x_d‖ over `samples`, m (`NaN` without samples).
+pub fn rms_position_error(samples: &[Sample]) -> f64 {
+    let n = samples.len() as f64;
+    (samples.iter().map(|s| s.ex * s.ex).sum::<f64>() / n).sqrt()
+}
+
 /// Largest Ψ over samples with `t ≥ from`.
 pub fn max_psi_after(samples: &[Sample], from: f64) -> f64 {
     samples

@@ -28,6 +28,7 @@
 mod bench;
 mod conservation;
 mod regress;
+mod sensing;
 mod stress;
 
 use std::path::{Path, PathBuf};
@@ -61,6 +62,10 @@ enum Cmd {
     /// target/bench/{summary.csv, work_precision.csv, work_precision.svg,
     /// bench.mcap}.
     Bench(bench::BenchArgs),
+    /// Flying on measurements: RMS position error against the motion
+    /// capture's latency and the sensors' noise, hover and figure eight
+    /// (--quick: 4 seeds, 5 s runs).
+    Sensing(sensing::SensingArgs),
     /// Table of the last `cargo bench -p geopid-lie` run: generic vs hand-written.
     BenchTable,
     /// Build `lie` in every feature combination.
@@ -88,6 +93,7 @@ fn main() -> ExitCode {
         Cmd::Regress(a) => regress::regress(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Bench(a) => bench::bench(a),
+        Cmd::Sensing(a) => sensing::sensing(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
         Cmd::Conservation { steps } => conservation::conservation(steps),

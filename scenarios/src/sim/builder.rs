@@ -32,7 +32,7 @@ pub struct SimulationBuilder<'a, B: Backend, M = Stepper<B>> {
     pub(super) stop: Option<Condition<'a, B>>,
     pub(super) guard: DivergenceGuard,
     pub(super) warnings: Vec<String>,
-    pub(super) sensing: sense::Settings<'a, B>,
+    pub(super) sensing: sensing::Settings<'a, B>,
 }
 
 impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {

@@ -85,7 +85,7 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     pub caps: Capabilities<'s, B>,
     pub wind: Option<&'s mut (dyn Wind + 'a)>,
     /// The sensors and the estimator, when the run has them.
-    pub sensing: Option<&'s mut super::sense::Sensing<'a, B>>,
+    pub sensing: Option<&'s mut super::sensing::Sensing<'a, B>>,
     pub plan: &'s mut [Segment<'a, B>],
     pub active: usize,
     /// Where the integrals and the vehicle's states are.
@@ -264,7 +264,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
     pub fn resume(
         vehicle: &'s dyn Vehicle<B>,
         wind: Option<&'s mut (dyn Wind + 'a)>,
-        sensing: Option<&'s mut super::sense::Sensing<'a, B>>,
+        sensing: Option<&'s mut super::sensing::Sensing<'a, B>>,
         plan: &'s mut [Segment<'a, B>],
         p: &Parked<B, N>,
     ) -> Self {

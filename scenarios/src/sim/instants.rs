@@ -2,7 +2,7 @@
 //! breakpoint crossing, a located condition switch, a checkpoint (a time
 //! switch, a control instant). The stepping loop calls these.
 
-use controllers::Breakpoint;
+use controllers::{Breakpoint, SatBranch};
 use integrators::{Integrator, State};
 use lie::{Backend, Real, S, SimdReal};
 
@@ -11,7 +11,6 @@ use super::emit::Emit;
 use super::events::{Crossing, event_derivatives, locate_condition, split_at_crossing};
 use super::record::track_figures;
 use super::sense;
-use super::stepping::{breakpoints, release};
 use super::{BreakpointCrossing, RunOutput, SimError, Until};
 
 /// Makes the next segment active at `t` (if there is one), reports the
@@ -201,4 +200,34 @@ fn switch_derivatives<B: Backend, const N: usize, I: Integrator<B, N>>(
             .unwrap_or_else(<S<B> as Real>::nan)
     };
     event_derivatives(sys, stepper, residual, step, y)
+}
+
+/// After the step that follows a located crossing: the law picks its
+/// breakpoint branches from the state again.
+pub(super) fn release<B: Backend, const N: usize>(
+    sys: &mut ClosedLoop<'_, '_, B, N>,
+    count: usize,
+    forced: &mut bool,
+) {
+    if *forced {
+        for k in 0..count {
+            sys.plan[sys.active].mode.force_branch(k, SatBranch::Auto);
+        }
+        *forced = false;
+    }
+}
+
+/// The breakpoints of the active mode (none without event location),
+/// copied so that the loop can call the system while it walks them.
+pub(super) fn breakpoints<B: Backend, const N: usize>(
+    sys: &ClosedLoop<'_, '_, B, N>,
+    locate_events: bool,
+) -> Vec<Breakpoint<B>> {
+    if locate_events {
+        sys.plan
+            .get(sys.active)
+            .map_or_else(Vec::new, |s| s.mode.integrals().breakpoints.to_vec())
+    } else {
+        Vec::new()
+    }
 }

@@ -43,6 +43,7 @@ mod open_loop;
 mod output_types;
 mod readout;
 pub(crate) mod sense;
+mod sensing;
 pub use open_loop::OpenLoop;
 pub use readout::{MeasurementRecord, NavSample, Readout};
 pub(crate) mod record;
@@ -201,7 +202,7 @@ pub(crate) struct Engine<'a, B: Backend, const N: usize, I> {
     /// The air's velocity, evaluated at the vehicle at every load.
     wind: Option<Box<dyn Wind + 'a>>,
     /// The sensors and the estimator, when the run has them.
-    sensing: Option<Box<sense::Sensing<'a, B>>>,
+    sensing: Option<Box<sensing::Sensing<'a, B>>>,
     plan: Vec<Segment<'a, B>>,
     stepper: I,
     /// The state now: the initial state until the run starts.
@@ -242,7 +243,7 @@ impl<'a, B: Backend> Simulation<'a, B> {
             stop: None,
             guard: DivergenceGuard::default(),
             warnings: Vec::new(),
-            sensing: sense::Settings::default(),
+            sensing: sensing::Settings::default(),
         }
     }
 }

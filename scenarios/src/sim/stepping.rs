@@ -10,7 +10,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use controllers::{Breakpoint, SatBranch};
+use controllers::Breakpoint;
 use dynamics::{Vehicle, Wind, Wrench};
 use integrators::{Integrator, State};
 use lie::{Backend, Real, S, SimdReal};
@@ -19,28 +19,13 @@ use super::closed_loop::{ClosedLoop, Layout, Parked};
 use super::emit::{Emit, Record};
 use super::events::{any_crossed, crossing, locate_condition};
 use super::grid::Grid;
-use super::instants::Cx;
+use super::instants::{Cx, breakpoints, release};
 use super::record::{empty_sample, sample, track, track_figures};
 use super::sense;
 use super::{
     Control, Divergence, DivergenceGuard, Engine, PsiRange, RunOptions, RunOutput, Segment,
     SimError, Termination, Until,
 };
-
-/// After the step that follows a located crossing: the law picks its
-/// breakpoint branches from the state again.
-pub(super) fn release<B: Backend, const N: usize>(
-    sys: &mut ClosedLoop<'_, '_, B, N>,
-    count: usize,
-    forced: &mut bool,
-) {
-    if *forced {
-        for k in 0..count {
-            sys.plan[sys.active].mode.force_branch(k, SatBranch::Auto);
-        }
-        *forced = false;
-    }
-}
 
 /// The loop's state between two calls of `advance_to`: where the run is on
 /// its checkpoints and step grid, the sample stream, the output so far,
@@ -564,21 +549,6 @@ fn finish_early<B: Backend, const N: usize>(
     let s = sample(sys, t, y)?;
     track(out, &s);
     emit.sample(out, s)
-}
-
-/// The breakpoints of the active mode (none without event location),
-/// copied so that the loop can call the system while it walks them.
-pub(super) fn breakpoints<B: Backend, const N: usize>(
-    sys: &ClosedLoop<'_, '_, B, N>,
-    locate_events: bool,
-) -> Vec<Breakpoint<B>> {
-    if locate_events {
-        sys.plan
-            .get(sys.active)
-            .map_or_else(Vec::new, |s| s.mode.integrals().breakpoints.to_vec())
-    } else {
-        Vec::new()
-    }
 }
 
 /// The start of a run: the held command of sampled control, the vehicle's

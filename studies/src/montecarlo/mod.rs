@@ -457,7 +457,7 @@ impl<D, S, G, M> Study<D, S, G, M> {
 /// `f` over `indices`, in order: on a pool of `threads` threads (all
 /// cores for `None`) with the `parallel` feature, in turn without it. One
 /// body for both, so that the default build's tests cover it.
-fn parallel_map<T: Send>(
+pub(crate) fn parallel_map<T: Send>(
     indices: &[u64],
     threads: Option<usize>,
     f: impl Fn(&u64) -> Result<T, Error> + Sync + Send,
