@@ -74,7 +74,9 @@ def load_scene(scene: SceneLike, **overrides: Any) -> Scene:
     text or a dict, with settings overridden by keyword (``integrator``,
     ``dt``, ``tol``, ``duration``, ``sample``, ``control_rate``,
     ``scalar`` ("f32"/"f64"), ``backend`` ("nalgebra"/"glam"),
-    ``no_integral``; ``None`` keeps the scene's value).
+    ``no_integral``, ``sensors`` (a suite: "rotorpy", "crazyflie",
+    "mpu9250", "fdcl-gazebo"), ``estimator`` ("none"/"mocap"), ``seed``;
+    ``None`` keeps the scene's value).
 
     Raises :class:`SceneError` (a ``ValueError``) with ``key`` and
     ``location`` ("file:line:col") when the scene does not parse or
@@ -118,6 +120,14 @@ class Result:
     ("completed", "stopped", "interrupted" or "diverged"; "unknown" for a
     reason newer than this package), ``t`` and, for a divergence, ``what``
     and ``value``.
+
+    With sensors, ``measurements`` holds a dict of arrays per sensor, a
+    row per sample it took: ``imu`` (``t``, ``accel``, ``gyro``),
+    ``mocap`` (``t``, ``arrival``, ``x``, ``v``, ``R``, ``omega``),
+    ``gps`` (``t``, ``arrival``, ``x``, ``v``), ``baro`` (``t``,
+    ``height``); and with an estimator, ``estimate`` holds the state the
+    modes read at each recorded sample (``x``, ``v``, ``R``, ``omega``;
+    ``None`` without one).
     """
 
     _ARRAYS = (
@@ -175,6 +185,9 @@ def run(
     sample: Optional[float] = None,
     control_rate: Optional[float] = None,
     no_integral: bool = False,
+    sensors: Optional[str] = None,
+    estimator: Optional[str] = None,
+    seed: Optional[int] = None,
     csv: Optional[Union[str, "os.PathLike[str]"]] = None,
     mcap: Optional[Union[str, "os.PathLike[str]"]] = None,
     guard: Optional[Mapping[str, float]] = None,
@@ -182,7 +195,8 @@ def run(
     raise_on_divergence: bool = True,
 ) -> Result:
     """Runs a scene to its end (keywords as :func:`load_scene`'s; ``None``
-    keeps the scene's value) and returns its :class:`Result`; ``csv`` and
+    keeps the scene's value; ``sensors``, ``estimator`` and ``seed`` fly
+    it on measurements, see :class:`Result` for what they add) and returns its :class:`Result`; ``csv`` and
     ``mcap`` write the samples as ``cargo xtask run`` does. ``guard`` sets
     divergence limits: ``omega`` (|Ω|, rad/s), ``position_error``
     (‖x − x_d‖, m), ``moment`` (‖M‖, N m), ``substeps`` (per dopri call).
@@ -214,6 +228,9 @@ def run(
         sample=sample,
         control_rate=control_rate,
         no_integral=no_integral,
+        sensors=sensors,
+        estimator=estimator,
+        seed=seed,
     )
     try:
         out = _geopid.run(

@@ -36,6 +36,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--sample", type=float, help="recording period, s")
     r.add_argument("--control-rate", type=float, help="sampled control at this rate, Hz")
     r.add_argument("--no-integral", action="store_true", help="the integral terms off")
+    r.add_argument("--sensors", metavar="PRESET", help="rotorpy, crazyflie, mpu9250 or fdcl-gazebo")
+    r.add_argument("--estimator", choices=["none", "mocap"], help="what the modes read")
+    r.add_argument("--seed", type=int, help="seed of the sensor noise")
     r.add_argument("--csv", help="write the samples as CSV")
     r.add_argument("--mcap", help="write an MCAP log (Foxglove schemas)")
     return p
@@ -67,6 +70,9 @@ def _main(argv: Optional[List[str]]) -> int:
             sample=args.sample,
             control_rate=args.control_rate,
             no_integral=args.no_integral,
+            sensors=args.sensors,
+            estimator=args.estimator,
+            seed=args.seed,
             csv=args.csv,
             mcap=args.mcap,
         )

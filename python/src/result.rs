@@ -101,7 +101,106 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bou
     let health: Vec<String> = out.health().iter().map(|h| h.to_string()).collect();
     d.set_item("health", health)?;
     d.set_item("termination", termination(py, &out.termination)?)?;
+    d.set_item("measurements", measurements(py, out)?)?;
+    d.set_item("estimate", estimate(py, out)?)?;
     Ok(d)
+}
+
+/// The measurements of a run with sensors, by sensor, each a dict of
+/// arrays with a row per sample: `imu` (`t`, `accel`, `gyro`), `mocap`
+/// (`t`, `arrival`, `x`, `v`, `R`, `omega`), `gps` (`t`, `arrival`, `x`,
+/// `v`), `baro` (`t`, `height`); a sensor the run lacks is absent.
+fn measurements<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bound<'py, PyDict>> {
+    use scenarios::MeasurementRecord as M;
+    let d = PyDict::new(py);
+    let ms = &out.measurements;
+    let t_of =
+        |f: fn(&M) -> bool| -> Vec<f64> { ms.iter().filter(|m| f(m)).map(|m| m.t()).collect() };
+    let imu: Vec<([f64; 3], [f64; 3])> = ms
+        .iter()
+        .filter_map(|m| match m {
+            M::Imu { accel, gyro, .. } => Some((*accel, *gyro)),
+            _ => None,
+        })
+        .collect();
+    if !imu.is_empty() {
+        let s = PyDict::new(py);
+        let t = t_of(|m| matches!(m, M::Imu { .. }));
+        s.set_item("t", array(py, &[t.len()], t)?)?;
+        s.set_item("accel", rows(py, imu.iter().map(|r| r.0))?)?;
+        s.set_item("gyro", rows(py, imu.iter().map(|r| r.1))?)?;
+        d.set_item("imu", s)?;
+    }
+    let mocap: Vec<(f64, scenarios::NavSample)> = ms
+        .iter()
+        .filter_map(|m| match m {
+            M::Mocap { arrival, state, .. } => Some((*arrival, *state)),
+            _ => None,
+        })
+        .collect();
+    if !mocap.is_empty() {
+        let s = PyDict::new(py);
+        let t = t_of(|m| matches!(m, M::Mocap { .. }));
+        s.set_item("t", array(py, &[t.len()], t)?)?;
+        let arrival: Vec<f64> = mocap.iter().map(|m| m.0).collect();
+        s.set_item("arrival", array(py, &[arrival.len()], arrival)?)?;
+        s.set_item("x", rows(py, mocap.iter().map(|m| m.1.x))?)?;
+        s.set_item("v", rows(py, mocap.iter().map(|m| m.1.v))?)?;
+        s.set_item("R", mats(py, mocap.iter().map(|m| m.1.r))?)?;
+        s.set_item("omega", rows(py, mocap.iter().map(|m| m.1.omega))?)?;
+        d.set_item("mocap", s)?;
+    }
+    let gps: Vec<(f64, [f64; 3], [f64; 3])> = ms
+        .iter()
+        .filter_map(|m| match m {
+            M::Gps { arrival, x, v, .. } => Some((*arrival, *x, *v)),
+            _ => None,
+        })
+        .collect();
+    if !gps.is_empty() {
+        let s = PyDict::new(py);
+        let t = t_of(|m| matches!(m, M::Gps { .. }));
+        s.set_item("t", array(py, &[t.len()], t)?)?;
+        let arrival: Vec<f64> = gps.iter().map(|m| m.0).collect();
+        s.set_item("arrival", array(py, &[arrival.len()], arrival)?)?;
+        s.set_item("x", rows(py, gps.iter().map(|m| m.1))?)?;
+        s.set_item("v", rows(py, gps.iter().map(|m| m.2))?)?;
+        d.set_item("gps", s)?;
+    }
+    let baro: Vec<f64> = ms
+        .iter()
+        .filter_map(|m| match m {
+            M::Baro { height, .. } => Some(*height),
+            _ => None,
+        })
+        .collect();
+    if !baro.is_empty() {
+        let s = PyDict::new(py);
+        let t = t_of(|m| matches!(m, M::Baro { .. }));
+        s.set_item("t", array(py, &[t.len()], t)?)?;
+        s.set_item("height", array(py, &[baro.len()], baro)?)?;
+        d.set_item("baro", s)?;
+    }
+    Ok(d)
+}
+
+/// The estimate the modes read at each record sample (`x`, `v`, `R`,
+/// `omega`), or `None` for a run without an estimator.
+fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let est: Vec<scenarios::NavSample> = out
+        .samples
+        .iter()
+        .filter_map(|s| s.sensors.as_deref().and_then(|r| r.estimate))
+        .collect();
+    if est.is_empty() || est.len() != out.samples.len() {
+        return Ok(None);
+    }
+    let d = PyDict::new(py);
+    d.set_item("x", rows(py, est.iter().map(|e| e.x))?)?;
+    d.set_item("v", rows(py, est.iter().map(|e| e.v))?)?;
+    d.set_item("R", mats(py, est.iter().map(|e| e.r))?)?;
+    d.set_item("omega", rows(py, est.iter().map(|e| e.omega))?)?;
+    Ok(Some(d))
 }
 
 /// The guard from a dict with keys `omega` (rad/s), `position_error`

@@ -102,6 +102,16 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
             "sample" => o.sample = Some(v.extract()?),
             "control_rate" => o.control_rate = Some(v.extract()?),
             "no_integral" => o.no_integral = v.extract()?,
+            "sensors" => o.sensors = Some(v.extract()?),
+            "seed" => o.seed = Some(v.extract()?),
+            "estimator" => {
+                let s: String = v.extract()?;
+                let options = [
+                    ("none", scenes::scene::EstimatorKind::None),
+                    ("mocap", scenes::scene::EstimatorKind::Mocap),
+                ];
+                o.estimator = Some(parse_enum("estimator.kind", &s, &options).map_err(err)?);
+            }
             "scalar" => {
                 let s: String = v.extract()?;
                 let options = [("f32", Scalar::F32), ("f64", Scalar::F64)];
@@ -118,7 +128,7 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "unknown setting `{key}`: expected integrator, dt, tol, duration, sample, \
-                     control_rate, scalar, backend or no_integral"
+                     control_rate, scalar, backend, no_integral, sensors, estimator or seed"
                 )));
             }
         }
@@ -167,7 +177,8 @@ impl Scene {
 
     /// The scene with settings replaced: keywords `integrator`, `dt`,
     /// `tol`, `duration`, `sample`, `control_rate`, `scalar` ("f32" or
-    /// "f64"), `backend` ("nalgebra" or "glam"), `no_integral`; `None`
+    /// "f64"), `backend` ("nalgebra" or "glam"), `no_integral`, `sensors`
+    /// (a suite's name), `estimator` ("none" or "mocap"), `seed`; `None`
     /// keeps the scene's value. Validated: a bad value raises `SceneError`
     /// naming the key, an unknown keyword `TypeError`.
     #[pyo3(signature = (**kwargs))]

@@ -647,3 +647,37 @@ def test_tune_lowers_difftunes_error_3_5x_within_the_thrust_limit():
     assert list(out["names"]) == ["gains.k_x", "gains.k_v", "gains.k_r", "gains.k_omega"]
     assert out["gains"][0].tolist() == pytest.approx([16.0, 5.6, 8.81, 2.54], rel=1e-15)
     assert abs(geopid.gradient(scene, ["gains.k_x"])[0] - out["final_cost"]) == 0.0
+
+
+# --- sensors ----------------------------------------------------------------
+
+
+def test_flying_on_mocap_gives_measurements_and_the_estimate():
+    kw = dict(control_rate=100.0, sensors="rotorpy", estimator="mocap", seed=3, duration=2.0)
+    res = geopid.run("figure-eight", **kw)
+    mocap = res.measurements["mocap"]
+    # One frame per 10 ms from t = 0, each arriving when taken (no latency).
+    assert mocap["x"].shape == (201, 3) and mocap["R"].shape == (201, 3, 3)
+    assert np.array_equal(mocap["t"], mocap["arrival"])
+    assert res.measurements["imu"]["accel"].shape == (201, 3)
+    assert res.estimate is not None and res.estimate["x"].shape == res.x.shape
+    # Mocap noise: σ = √(100/2)·0.0005 m about the truth.
+    noise = mocap["x"] - np.array([res.x[int(round(t / 0.01))] for t in mocap["t"]])
+    assert 0.5 < noise.std() / (math.sqrt(50.0) * 0.0005) < 1.5
+    again = geopid.run("figure-eight", **kw)
+    assert np.array_equal(again.x, res.x), "the same seed flies the same"
+    other = geopid.run("figure-eight", **dict(kw, seed=4))
+    assert not np.array_equal(other.x, res.x)
+    plain = geopid.run("figure-eight", duration=2.0)
+    assert plain.measurements == {} and plain.estimate is None
+
+
+def test_a_bad_sensor_setting_names_its_key():
+    with pytest.raises(geopid.SceneError) as e:
+        geopid.run("figure-eight", sensors="vicon")
+    assert e.value.key == "sensors.preset" and "vicon" in str(e.value)
+    with pytest.raises(geopid.SceneError) as e:
+        geopid.run("figure-eight", sensors="rotorpy", estimator="mocap")
+    assert e.value.key == "estimator.kind" and "sampled" in str(e.value)
+    with pytest.raises(geopid.SceneError):
+        geopid.run("figure-eight", estimator="kalman")

@@ -342,3 +342,37 @@ fn noise_is_keyed_on_the_seed_and_the_sensor() {
     assert_eq!(end_a, end_b);
     assert_ne!(a[5], c[5], "another seed, other noise");
 }
+
+/// With an estimator, a Ψ switch reads the estimate at the control
+/// instants, as a flight computer's scheduler does: on the tumble recovery
+/// (attitude mode until Ψ < 0.1, then position) under 100 Hz control on a
+/// perfect tracker, the switch falls on a control instant, the first at
+/// which Ψ of the true state (which the perfect tracker reports) is below
+/// the threshold; without an estimator it is located between instants.
+#[test]
+fn a_psi_switch_reads_the_estimate_at_control_instants() {
+    let mut scene = sampled(scenes::builtin::tumble_recovery(), 100.0);
+    scene.record.sample = 0.01;
+    let sensed = run(&scene, Some(mocap_only(MocapSpec::perfect(100.0))), true).unwrap();
+    let located = run(&scene, None, false).unwrap();
+    let (ts, tl) = (sensed.switches[0].t, located.switches[0].t);
+    let k = (ts * 100.0).round();
+    assert!((ts - k / 100.0).abs() < 1e-12, "on a control instant: {ts}");
+    // The sample just before is above the threshold, the one at it below.
+    let at = |t: f64| {
+        sensed
+            .samples
+            .iter()
+            .find(|s| (s.t - t).abs() < 1e-9 && s.segment == 0)
+            .map(|s| s.psi)
+    };
+    let before = at((k - 1.0) / 100.0).expect("a sample before the switch");
+    assert!(before >= 0.1, "Ψ = {before} a control period before");
+    assert!(
+        tl <= ts && ts - tl < 0.01 + 1e-12,
+        "located {tl}, on the estimate {ts}"
+    );
+    println!(
+        "Ψ switch: located at {tl:.6} s on the truth, at the control instant {ts} on the estimate"
+    );
+}

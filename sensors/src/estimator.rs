@@ -103,6 +103,16 @@ pub trait Estimator<B: Backend>: Send {
     fn needs(&self) -> SensorSet {
         SensorSet::default()
     }
+    /// The sensors whose measurements it reads (every one by default): a
+    /// simulation hands it no others, and does not keep them for it.
+    fn wants(&self) -> SensorSet {
+        SensorSet {
+            imu: true,
+            mocap: true,
+            gps: true,
+            baro: true,
+        }
+    }
     /// Starts from `initial` at time `t`.
     fn reset(&mut self, t: f64, initial: &NavState<B>);
     /// Takes one measurement.
@@ -159,6 +169,9 @@ impl<B: Backend> Estimator<B> for MocapEstimator<B> {
             imu: self.gyro.is_some(),
             ..SensorSet::default()
         }
+    }
+    fn wants(&self) -> SensorSet {
+        self.needs()
     }
     fn reset(&mut self, _t: f64, initial: &NavState<B>) {
         self.state = *initial;

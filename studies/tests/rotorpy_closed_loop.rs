@@ -285,9 +285,152 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
     assert_eq!(cases, 2);
 }
 
+/// RotorPy's per-seed RMS position errors flying on its motion capture
+/// (`golden/rotorpy_mocap.py`, run now when `rotorpy` imports), and where
+/// they came from.
+fn mocap_reference() -> (String, &'static str) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let has_rotorpy = Command::new("python3")
+        .args(["-c", "import rotorpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if has_rotorpy {
+        let out = std::env::temp_dir().join(format!("rotorpy_mocap_{}.txt", std::process::id()));
+        let ok = Command::new("python3")
+            .arg(dir.join("rotorpy_mocap.py"))
+            .arg(&out)
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok && let Ok(text) = std::fs::read_to_string(&out) {
+            let _ = std::fs::remove_file(&out);
+            return (text, "RotorPy, run now");
+        }
+    }
+    let text = std::fs::read_to_string(dir.join("rotorpy_mocap.txt")).expect("golden file");
+    (text, "the stored golden (rotorpy not importable)")
+}
+
+fn mean_sd(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().sum::<f64>() / n;
+    (
+        m,
+        (x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt(),
+    )
+}
+
+/// Head-on with noise: RotorPy's `Environment(..., sim_rate=100)
+/// .run(use_mocap=True)` against this engine flying the same vehicle and
+/// law (the mode above) on the `rotorpy` motion capture through the mocap
+/// estimator at 100 Hz, hover and circle, 20 seeds each, the rotors of
+/// both starting at the first command on the true state. The mean RMS
+/// position errors agree within 2·√(s₁²/20 + s₂²/20), the two-sided 95 %
+/// band of a difference of two means of 20 (both means and spreads
+/// printed).
+fn flying_on_mocap_matches_rotorpy_statistically() {
+    let (text, source) = mocap_reference();
+    println!("reference: {source}");
+    let mut cases = 0;
+    for line in text.lines().filter(|l| l.starts_with("rms ")) {
+        let mut w = line.split_whitespace().skip(1);
+        let name = w.next().expect("case");
+        let theirs: Vec<f64> = w.map(|x| x.parse().expect("a number")).collect();
+        let x0 = if name == "hover" {
+            [0.3, -0.2, 0.1]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        let ours: Vec<f64> = (0..theirs.len() as u64)
+            .map(|seed| {
+                let traj = || {
+                    if name == "hover" {
+                        Traj::Hover
+                    } else {
+                        Traj::Circle
+                    }
+                };
+                let mut start = RigidBodyState::<B>::at_rest();
+                let x = p(x0);
+                start.x = B::vec3(x[0], x[1], x[2]);
+                let vehicle = Multirotor::new(MultirotorParams::<B>::crazyflie()).expect("preset");
+                let suite = sensors::SensorSuite {
+                    mocap: Some(sensors::MocapSpec::rotorpy(100.0)),
+                    ..Default::default()
+                };
+                // The rotors start at the first command on the true state,
+                // as RotorPy's script starts them (the engine would start
+                // them at the first command on the noisy estimate: a
+                // different transient for each seed).
+                let (lo, hi) = (
+                    vehicle.params().rotor_speed_min,
+                    vehicle.params().rotor_speed_max,
+                );
+                let first = Se3Control::new(traj()).answer(0.0, start.as_group());
+                let w0: Vec<f64> = first
+                    .rotor_speeds
+                    .expect("a rotor-speed law")
+                    .as_slice()
+                    .iter()
+                    .map(|w| w.clamp(lo, hi))
+                    .collect();
+                let out = Simulation::<B>::builder(Box::new(vehicle))
+                    .vehicle_states(&w0)
+                    .integrator(integrators::Dopri::<B>::new(1e-10))
+                    .mode(Se3Control::new(traj()), Until::Never)
+                    .initial(start)
+                    .control(Control::Sampled { rate: 100.0 })
+                    .sensors(suite, seed)
+                    .estimator(Box::new(sensors::MocapEstimator::<B>::new()))
+                    .dt(0.01)
+                    .duration(10.0)
+                    .record_every(0.01)
+                    .build()
+                    .expect("build")
+                    .run(Default::default())
+                    .expect("run");
+                let tr = traj();
+                let sum: f64 = out
+                    .samples
+                    .iter()
+                    .map(|s| {
+                        let d = p(tr.at(s.t).0);
+                        (0..3).map(|k| (s.x[k] - d[k]).powi(2)).sum::<f64>()
+                    })
+                    .sum();
+                (sum / out.samples.len() as f64).sqrt()
+            })
+            .collect();
+        let (m1, s1) = mean_sd(&theirs);
+        let (m2, s2) = mean_sd(&ours);
+        let n = theirs.len() as f64;
+        let band = 2.0 * (s1 * s1 / n + s2 * s2 / n).sqrt();
+        println!(
+            "{name:<7} RotorPy {:.4} ± {:.4} mm, here {:.4} ± {:.4} mm over {} seeds: \
+             |Δ| = {:.4} mm, band {:.4} mm",
+            m1 * 1e3,
+            s1 * 1e3,
+            m2 * 1e3,
+            s2 * 1e3,
+            theirs.len(),
+            (m1 - m2).abs() * 1e3,
+            band * 1e3
+        );
+        assert_eq!(theirs.len(), 20);
+        assert!((m1 - m2).abs() <= band, "{name}: {m1} vs {m2}, band {band}");
+        cases += 1;
+    }
+    assert_eq!(cases, 2);
+}
+
 fn main() {
-    testkit::run(&[(
-        "se3control_as_a_mode_matches_rotorpy_closed_loop",
-        se3control_as_a_mode_matches_rotorpy_closed_loop,
-    )]);
+    testkit::run(&[
+        (
+            "se3control_as_a_mode_matches_rotorpy_closed_loop",
+            se3control_as_a_mode_matches_rotorpy_closed_loop,
+        ),
+        (
+            "flying_on_mocap_matches_rotorpy_statistically",
+            flying_on_mocap_matches_rotorpy_statistically,
+        ),
+    ]);
 }

@@ -88,10 +88,7 @@ pub(super) fn piece<B: Backend, const N: usize, I: Integrator<B, N>>(
     let Some(sn) = sys.sensing.as_deref() else {
         return Ok(());
     };
-    let first = (0..4)
-        .map(|s| sn.due(s))
-        .fold(f64::INFINITY, |a, (t, tol)| a.min(t - tol));
-    if first > t1 {
+    if sn.earliest() > t1 {
         return Ok(());
     }
     let g = sys.vehicle.gravity();

@@ -100,9 +100,17 @@ pub(crate) struct Sensing<'a, B: Backend> {
     baro: Option<Baro>,
     /// Each sensor's next sample index (IMU, mocap, GPS, barometer).
     next: [u64; 4],
+    /// Each sensor's rate, Hz (0 without the sensor).
+    rate: [f64; 4],
+    /// Each sensor's next sample instant and its tolerance (∞ without
+    /// the sensor).
+    due: [(f64, f64); 4],
     /// Taken and not yet delivered: `(arrival, measurement)`, in arrival
     /// order (capture order among equal arrivals).
-    queue: VecDeque<(f64, Measurement<B>)>,
+    queue: [VecDeque<(f64, Measurement<B>)>; 4],
+    /// The sensors whose measurements the estimator reads (the others are
+    /// not queued).
+    wanted: [bool; 4],
     estimator: Option<Box<dyn Estimator<B> + 'a>>,
     /// The estimate of the last control instant.
     estimate: Option<NavState<B>>,
@@ -121,13 +129,35 @@ impl<'a, B: Backend> Sensing<'a, B> {
         estimator: Option<Box<dyn Estimator<B> + 'a>>,
     ) -> Result<Self, sensors::SensorError> {
         let key = |s: usize| NoiseKey::new(seed, s as u64);
+        let rate = [
+            suite.imu.map(|s| s.rate),
+            suite.mocap.map(|s| s.rate),
+            suite.gps.map(|s| s.rate),
+            suite.baro.map(|s| s.rate),
+        ]
+        .map(|r| r.unwrap_or(0.0));
         Ok(Self {
+            rate,
+            due: rate.map(|f| {
+                if f > 0.0 {
+                    (0.0, 1e-9 / f)
+                } else {
+                    (f64::INFINITY, 0.0)
+                }
+            }),
             imu: suite.imu.map(|s| Imu::new(s, key(IMU))).transpose()?,
             mocap: suite.mocap.map(|s| Mocap::new(s, key(MOCAP))).transpose()?,
             gps: suite.gps.map(|s| Gps::new(s, key(GPS))).transpose()?,
             baro: suite.baro.map(|s| Baro::new(s, key(BARO))).transpose()?,
             next: [0; 4],
-            queue: VecDeque::new(),
+            queue: Default::default(),
+            wanted: match &estimator {
+                Some(e) => {
+                    let w = e.wants();
+                    [w.imu, w.mocap, w.gps, w.baro]
+                }
+                None => [false; 4],
+            },
             estimator,
             estimate: None,
             latest: Readout::default(),
@@ -143,25 +173,26 @@ impl<'a, B: Backend> Sensing<'a, B> {
 
     /// The time of sensor `s`'s next sample and its tolerance (∞ without
     /// the sensor).
+    #[inline]
     pub(super) fn due(&self, s: usize) -> (f64, f64) {
-        let k = self.next[s];
-        let rate = match s {
-            IMU => self.imu.as_ref().map(|i| i.spec().rate),
-            MOCAP => self.mocap.as_ref().map(|m| m.spec().rate),
-            GPS => self.gps.as_ref().map(|g| g.spec().rate),
-            _ => self.baro.as_ref().map(|b| b.spec().rate),
-        };
-        match rate {
-            Some(f) => (k as f64 / f, 1e-9 / f),
-            None => (f64::INFINITY, 0.0),
-        }
+        self.due[s]
     }
 
-    /// Queues `m`, arriving at `arrival`, after every measurement arriving
-    /// no later.
-    fn push(&mut self, arrival: f64, m: Measurement<B>) {
-        let at = self.queue.partition_point(|(a, _)| *a <= arrival);
-        self.queue.insert(at, (arrival, m));
+    /// The earliest next sample instant of any sensor, less its tolerance.
+    #[inline]
+    pub(super) fn earliest(&self) -> f64 {
+        self.due
+            .iter()
+            .fold(f64::INFINITY, |a, (t, tol)| a.min(t - tol))
+    }
+
+    /// Queues sensor `s`'s measurement `m`, arriving at `arrival`, when
+    /// the estimator reads that sensor. A sensor's latency is constant, so
+    /// its own queue is in arrival order.
+    fn push(&mut self, s: usize, arrival: f64, m: Measurement<B>) {
+        if self.wanted[s] {
+            self.queue[s].push_back((arrival, m));
+        }
     }
 
     /// Sensor `s`'s next sample of the true state `y` at its instant `tk`
@@ -176,6 +207,8 @@ impl<'a, B: Backend> Sensing<'a, B> {
     ) -> Result<(), SimError> {
         let k = self.next[s];
         self.next[s] += 1;
+        // A product, never a sum.
+        self.due[s].0 = self.next[s] as f64 / self.rate[s];
         let b = &y.body;
         let sensor_error = |e| SimError::Sensor { t: tk, source: e };
         match s {
@@ -193,7 +226,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 self.latest.accel = Some(lie::ops::vec3_f64::<B>(m.accel));
                 self.latest.gyro = Some(lie::ops::vec3_f64::<B>(m.gyro));
                 self.record(MeasurementRecord::imu::<B>(&m));
-                self.push(tk, Measurement::Imu(m));
+                self.push(IMU, tk, Measurement::Imu(m));
             }
             MOCAP => {
                 let Some(mocap) = self.mocap.as_ref() else {
@@ -204,7 +237,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
                     let rec = MeasurementRecord::mocap::<B>(&m, tk + latency);
                     self.latest.mocap_x = Some(lie::ops::vec3_f64::<B>(m.x));
                     self.record(rec);
-                    self.push(tk + latency, Measurement::Mocap(m));
+                    self.push(MOCAP, tk + latency, Measurement::Mocap(m));
                 }
             }
             GPS => {
@@ -215,7 +248,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 let m = gps.fix::<B>(k, b.x, b.v);
                 self.latest.gps_x = Some(lie::ops::vec3_f64::<B>(m.x));
                 self.record(MeasurementRecord::gps::<B>(&m, tk + delay));
-                self.push(tk + delay, Measurement::Gps(m));
+                self.push(GPS, tk + delay, Measurement::Gps(m));
             }
             _ => {
                 let Some(baro) = self.baro.as_mut() else {
@@ -228,7 +261,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
                     t: m.t,
                     height: m.height,
                 });
-                self.push(tk, Measurement::Baro(m));
+                self.push(BARO, tk, Measurement::Baro(m));
             }
         }
         Ok(())
@@ -254,8 +287,17 @@ impl<'a, B: Backend> Sensing<'a, B> {
             return;
         };
         let tol = 1e-9 * t.abs().max(1e-3);
-        while self.queue.front().is_some_and(|(a, _)| *a <= t + tol) {
-            if let Some((_, m)) = self.queue.pop_front() {
+        // Every queue's arrived measurements, merged in arrival order (by
+        // capture time, then sensor, among equal arrivals).
+        loop {
+            let next = (0..4)
+                .filter_map(|s| {
+                    let (a, m) = self.queue[s].front()?;
+                    (*a <= t + tol).then_some((*a, m.captured(), s))
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
+            let Some((_, _, s)) = next else { break };
+            if let Some((_, m)) = self.queue[s].pop_front() {
                 e.update(&m);
             }
         }
