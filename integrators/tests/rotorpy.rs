@@ -18,7 +18,6 @@
 //! model, not of integration.
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState};
 use integrators::{Dopri, Integrator, Load, State, System};
@@ -68,25 +67,10 @@ fn parse(text: &str) -> Vec<Case> {
 /// The reference text and where it came from.
 fn reference() -> (String, &'static str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let has_rotorpy = Command::new("python3")
-        .args(["-c", "import rotorpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if has_rotorpy {
-        let out =
-            std::env::temp_dir().join(format!("rotorpy_open_loop_{}.txt", std::process::id()));
-        let ok = Command::new("python3")
-            .arg(dir.join("rotorpy_open_loop.py"))
-            .arg(&out)
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok && let Ok(text) = std::fs::read_to_string(&out) {
-            let _ = std::fs::remove_file(&out);
-            return (text, "RotorPy, run now");
-        }
+    match testkit::rotorpy_golden(&dir, "rotorpy_open_loop") {
+        (text, true) => (text, "RotorPy, run now"),
+        (text, false) => (text, "the stored golden (rotorpy not importable)"),
     }
-    let text = std::fs::read_to_string(dir.join("rotorpy_open_loop.txt")).expect("golden file");
-    (text, "the stored golden (rotorpy not importable)")
 }
 
 /// The vehicle under a held rotor-speed command in a constant wind.

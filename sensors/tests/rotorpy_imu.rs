@@ -10,7 +10,6 @@
 //! and an IMU mounted by `R_BS = P R'_BS P` reads `P f'`.
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use lie::NalgebraF64 as B;
 use nalgebra::{Matrix3, Vector3};
@@ -18,24 +17,10 @@ use sensors::{Imu, ImuSpec, Kinematics, NoiseKey};
 
 fn reference() -> (String, &'static str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let has_rotorpy = Command::new("python3")
-        .args(["-c", "import rotorpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if has_rotorpy {
-        let out = std::env::temp_dir().join(format!("rotorpy_imu_{}.txt", std::process::id()));
-        let ok = Command::new("python3")
-            .arg(dir.join("rotorpy_imu.py"))
-            .arg(&out)
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok && let Ok(text) = std::fs::read_to_string(&out) {
-            let _ = std::fs::remove_file(&out);
-            return (text, "RotorPy, run now");
-        }
+    match testkit::rotorpy_golden(&dir, "rotorpy_imu") {
+        (text, true) => (text, "RotorPy, run now"),
+        (text, false) => (text, "the stored golden (rotorpy not importable)"),
     }
-    let text = std::fs::read_to_string(dir.join("rotorpy_imu.txt")).expect("golden file");
-    (text, "the stored golden (rotorpy not importable)")
 }
 
 /// The rotation of a unit quaternion (x, y, z, w), normalised first as

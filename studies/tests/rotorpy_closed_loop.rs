@@ -13,7 +13,6 @@
 //! script runs afresh (the test says which).
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use controllers::{ControlError, Mode, ModeOutput, RotorSpeeds, VehicleState};
 use dynamics::{Multirotor, MultirotorParams, RigidBodyState, Vehicle};
@@ -179,31 +178,16 @@ impl Mode<B> for Se3Control {
 /// The reference text and where it came from.
 fn reference() -> (String, &'static str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let has = Command::new("python3")
-        .args(["-c", "import rotorpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if has {
-        let out =
-            std::env::temp_dir().join(format!("rotorpy_closed_loop_{}.txt", std::process::id()));
-        let ok = Command::new("python3")
-            .arg(dir.join("rotorpy_closed_loop.py"))
-            .arg(&out)
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok && let Ok(text) = std::fs::read_to_string(&out) {
-            let _ = std::fs::remove_file(&out);
-            return (
-                text,
-                "RotorPy, run now (its wall time measured in this run)",
-            );
-        }
+    match testkit::rotorpy_golden(&dir, "rotorpy_closed_loop") {
+        (text, true) => (
+            text,
+            "RotorPy, run now (its wall time measured in this run)",
+        ),
+        (text, false) => (
+            text,
+            "the stored golden (rotorpy not importable; its wall time is from when it was made)",
+        ),
     }
-    let text = std::fs::read_to_string(dir.join("rotorpy_closed_loop.txt")).expect("golden");
-    (
-        text,
-        "the stored golden (rotorpy not importable; its wall time is from when it was made)",
-    )
 }
 
 fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
@@ -286,28 +270,13 @@ fn se3control_as_a_mode_matches_rotorpy_closed_loop() {
 }
 
 /// RotorPy's per-seed RMS position errors flying on its motion capture
-/// (`golden/rotorpy_mocap.py`, run now when `rotorpy` imports), and where
-/// they came from.
+/// (`golden/rotorpy_mocap.py`), and where they came from.
 fn mocap_reference() -> (String, &'static str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let has_rotorpy = Command::new("python3")
-        .args(["-c", "import rotorpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if has_rotorpy {
-        let out = std::env::temp_dir().join(format!("rotorpy_mocap_{}.txt", std::process::id()));
-        let ok = Command::new("python3")
-            .arg(dir.join("rotorpy_mocap.py"))
-            .arg(&out)
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok && let Ok(text) = std::fs::read_to_string(&out) {
-            let _ = std::fs::remove_file(&out);
-            return (text, "RotorPy, run now");
-        }
+    match testkit::rotorpy_golden(&dir, "rotorpy_mocap") {
+        (text, true) => (text, "RotorPy, run now"),
+        (text, false) => (text, "the stored golden (rotorpy not importable)"),
     }
-    let text = std::fs::read_to_string(dir.join("rotorpy_mocap.txt")).expect("golden file");
-    (text, "the stored golden (rotorpy not importable)")
 }
 
 fn mean_sd(x: &[f64]) -> (f64, f64) {

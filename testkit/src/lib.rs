@@ -54,6 +54,34 @@ pub fn nan_max(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The text of the golden `NAME.txt` in `dir`, written afresh by its
+/// script `NAME.py` when `python3` can import `rotorpy` (the comparison
+/// then runs against RotorPy itself), else the stored file; and whether it
+/// was written now.
+pub fn rotorpy_golden(dir: &std::path::Path, name: &str) -> (String, bool) {
+    use std::process::Command;
+    let has_rotorpy = Command::new("python3")
+        .args(["-c", "import rotorpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if has_rotorpy {
+        let out = std::env::temp_dir().join(format!("{name}_{}.txt", std::process::id()));
+        let ok = Command::new("python3")
+            .arg(dir.join(format!("{name}.py")))
+            .arg(&out)
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok && let Ok(text) = std::fs::read_to_string(&out) {
+            let _ = std::fs::remove_file(&out);
+            return (text, true);
+        }
+    }
+    let path = dir.join(format!("{name}.txt"));
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("the golden {}: {e}", path.display()));
+    (text, false)
+}
+
 #[cfg(test)]
 mod tests {
     use super::nan_max;
