@@ -167,3 +167,48 @@ pub fn table(cells: &[Cell]) -> String {
     t.push('\n');
     t
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> Sweep {
+        let mut scene = scenes::builtin::figure_eight();
+        scene.duration = 1.0;
+        Sweep {
+            scene,
+            preset: "rotorpy".into(),
+            control_rate: 100.0,
+            latencies: vec![0.0, 0.02],
+            noise_scales: vec![0.0, 1.0],
+            seeds: vec![1, 2, 3],
+            gyro_rates: false,
+        }
+    }
+
+    /// The noise is keyed on (seed, sensor, sample, axis), so a sweep's
+    /// cells are the same bit for bit on one thread and on two; without
+    /// noise every seed flies the same, with it each seed its own.
+    #[test]
+    fn a_sweep_is_the_same_on_one_thread_and_on_two() {
+        let sweep = small();
+        let one = sweep.run(Some(1)).expect("sweep");
+        let two = sweep.run(Some(2)).expect("sweep");
+        assert_eq!(one, two);
+        assert_eq!(one.len(), 4);
+        for c in &one {
+            let distinct = c.rms[0] != c.rms[1] && c.rms[1] != c.rms[2];
+            assert_eq!(distinct, c.noise_scale > 0.0, "{c:?}");
+        }
+        assert!(table(&one).contains("| 20 ms |"));
+    }
+
+    /// A sensor suite the scene cannot fly is an error before any run.
+    #[test]
+    fn an_unknown_preset_is_refused() {
+        let mut sweep = small();
+        sweep.preset = "vicon".into();
+        let e = sweep.run(Some(1)).expect_err("refused").to_string();
+        assert!(e.contains("vicon"), "{e}");
+    }
+}
