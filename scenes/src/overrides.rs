@@ -148,6 +148,16 @@ mod tests {
         };
         let e = continuous.apply(scene.clone()).unwrap_err();
         assert_eq!(e.key.as_deref(), Some("estimator.kind"));
+        let mut late = scene.clone();
+        late.sensors = Some(crate::scene::SensorsSpec {
+            preset: "rotorpy".into(),
+            noise_scale: 1.0,
+            mocap_latency: Some(-0.5),
+            mocap_rate: None,
+        });
+        let e = Overrides::default().apply(late).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("sensors.mocap_latency"));
+        assert!(e.message.contains("mocap.latency = -0.5"), "{}", e.message);
         assert_eq!(s.integrator.kind, "rk4");
         assert_eq!((s.integrator.dt, s.integrator.tol), (2e-4, 1e-8));
         assert_eq!((s.duration, s.record.sample), (1.5, 0.01));

@@ -107,9 +107,22 @@ impl SensorsSpec {
                 m.rate = r;
             }
         }
-        suite
-            .validate()
-            .map_err(|e| ("sensors", format!("sensors: {e}")))?;
+        suite.validate().map_err(|e| {
+            // The two settings a scene gives itself are reported at their
+            // own keys; the rest come from the preset.
+            let key = match &e {
+                sensors::SensorError::Setting {
+                    field: "mocap.latency",
+                    ..
+                } => "sensors.mocap_latency",
+                sensors::SensorError::Setting {
+                    field: "mocap.rate",
+                    ..
+                } => "sensors.mocap_rate",
+                _ => "sensors",
+            };
+            (key, format!("sensors: {e}"))
+        })?;
         Ok(suite)
     }
 }
