@@ -58,6 +58,10 @@ pub struct RunArgs {
     /// the scene's].
     #[arg(long, allow_negative_numbers = true)]
     pub control_rate: Option<f64>,
+    /// A flight computer's loop rates instead of one control rate:
+    /// crazyflie (estimator 1 kHz, attitude 500 Hz, position 100 Hz).
+    #[arg(long, value_name = "PRESET")]
+    pub loop_rates: Option<String>,
     /// The sensors the vehicle carries, a suite by name: rotorpy,
     /// crazyflie, mpu9250, fdcl-gazebo [default: the scene's].
     #[arg(long, value_name = "PRESET")]
@@ -101,6 +105,7 @@ pub fn apply(scene: Scene, a: &RunArgs) -> Result<Scene, SceneError> {
         duration: a.duration,
         sample: a.sample,
         control_rate: a.control_rate,
+        loop_rates: a.loop_rates.clone(),
         scalar: a.scalar.as_deref().map(|s| match s {
             "f32" => Scalar::F32,
             _ => Scalar::F64,

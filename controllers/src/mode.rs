@@ -314,6 +314,23 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// [`IntegralLayout::breakpoints`] ([`SatBranch::Auto`] lets the law
     /// decide from the state again).
     fn force_branch(&mut self, _index: usize, _branch: SatBranch) {}
+    /// An outer instant of a multi-rate loop at time `t`: a cascaded law
+    /// computes its outer loop here from `state` and `integrals` and keeps
+    /// its output, which [`Mode::command`] then tracks until the next call
+    /// ([`PositionMode`] holds `f, R_c, Ω_c, Ω̇_c` and the rate of `e_i`
+    /// while its attitude law runs at every command). A loop calls it
+    /// before `command` at the same instant and after [`Mode::enter`];
+    /// a single-rate loop never calls it, and the law stays the paper's.
+    /// The default does nothing: a law without an outer loop runs whole at
+    /// every command.
+    fn update_outer(
+        &mut self,
+        _t: S<B>,
+        _state: &VehicleState<B, R>,
+        _integrals: &[S<B>],
+    ) -> Result<(), ControlError> {
+        Ok(())
+    }
     /// The desired position at time `t` in f64, for logs (`x_d`, `‖e_x‖`),
     /// if the law has one.
     fn desired_position(&self, _t: f64) -> Option<[f64; 3]> {
@@ -366,6 +383,14 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     }
     fn force_branch(&mut self, index: usize, branch: SatBranch) {
         (**self).force_branch(index, branch)
+    }
+    fn update_outer(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, R>,
+        integrals: &[S<B>],
+    ) -> Result<(), ControlError> {
+        (**self).update_outer(t, state, integrals)
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         (**self).desired_position(t)
@@ -529,6 +554,13 @@ impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> Mode<B> for Attitud
 /// [`PositionMode::keep_integral_on_entry`] was set; `e_I` carries over.
 /// Its breakpoints are the three components of `e_i` at `±σ` (when any
 /// `k_i > 0`: otherwise `sat′` does not reach the command).
+///
+/// In a multi-rate loop ([`Mode::update_outer`]) the position law runs at
+/// the outer instants and its output is held between them: the thrust
+/// `f`, the computed attitude `R_c` with `Ω_c` and `Ω̇_c` (eqn:RdWc), and
+/// the rate of `e_i`; at every command the attitude law (eqn:aM) tracks
+/// the held `R_c` from the state then. When the outer instant is the
+/// command's own, the moment is the single-rate law's, bit for bit.
 pub struct PositionMode<B: Backend, P> {
     params: RigidBodyParams<B>,
     pos_gains: PositionGains<B>,
@@ -538,6 +570,19 @@ pub struct PositionMode<B: Backend, P> {
     reset_on_entry: bool,
     breakpoints: [Breakpoint<B>; 3],
     has_breakpoints: bool,
+    /// The outer loop's output a multi-rate loop holds (`None`: the
+    /// single-rate law).
+    held: Option<HeldOuter<B>>,
+}
+
+/// What [`PositionMode`] holds between the outer instants of a multi-rate
+/// loop.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct HeldOuter<B: Backend> {
+    thrust: S<B>,
+    /// `R_c, Ω_c, Ω̇_c`: the attitude law's reference.
+    attitude: AttitudeReference<B, So3Mat<B>>,
+    e_i_pos_rate: V3<B>,
 }
 
 impl<B: Backend, P: PositionSource<B>> PositionMode<B, P> {
@@ -561,6 +606,7 @@ impl<B: Backend, P: PositionSource<B>> PositionMode<B, P> {
             reset_on_entry: true,
             breakpoints: [3, 4, 5].map(|slot| Breakpoint { slot, level }),
             has_breakpoints,
+            held: None,
         }
     }
 
@@ -590,6 +636,7 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
         if self.reset_on_entry {
             integrals[3..6].fill(S::<B>::lit(0.0));
         }
+        self.held = None;
     }
     #[inline(always)]
     fn command(
@@ -602,6 +649,12 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
         // One length check for the six slots, not six.
         let [a0, a1, a2, p0, p1, p2] = *first::<B, 6>(integrals);
         let (e_att, e_pos) = (B::vec3(a0, a1, a2), B::vec3(p0, p1, p2));
+        if let Some(h) = &self.held {
+            // A multi-rate loop asks once per control instant; the
+            // continuous loop, at every load, never takes this path.
+            core::hint::cold_path();
+            return self.track_held(h, state, e_att, rates);
+        }
         let fresh;
         let reference = match self.reference.constant() {
             Some(held) => held,
@@ -641,7 +694,80 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
             *b = branch;
         }
     }
+    fn update_outer(
+        &mut self,
+        t: S<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        integrals: &[S<B>],
+    ) -> Result<(), ControlError> {
+        let [a0, a1, a2, p0, p1, p2] = *first::<B, 6>(integrals);
+        let fresh;
+        let reference = match self.reference.constant() {
+            Some(held) => held,
+            None => {
+                fresh = self.reference.position(t);
+                &fresh
+            }
+        };
+        let out = position_control(
+            &self.params,
+            &self.pos_gains,
+            &self.att_gains,
+            &crate::PositionInput {
+                state,
+                e_i_pos: B::vec3(p0, p1, p2),
+                e_i_att: B::vec3(a0, a1, a2),
+                reference,
+                model: self.model,
+            },
+        )?;
+        self.held = Some(HeldOuter {
+            thrust: out.thrust,
+            attitude: AttitudeReference {
+                rd: out.rc,
+                omega_d: out.omega_c,
+                omega_d_dot: out.omega_c_dot,
+            },
+            e_i_pos_rate: out.e_i_pos_rate,
+        });
+        Ok(())
+    }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         Some(self.reference.position_f64(t))
+    }
+}
+
+impl<B: Backend, P: PositionSource<B>> PositionMode<B, P> {
+    /// The command between outer instants: the attitude law (eqn:aM) on
+    /// the held `R_c, Ω_c, Ω̇_c` with the held thrust and `e_i` rate.
+    #[inline(never)]
+    fn track_held(
+        &self,
+        h: &HeldOuter<B>,
+        state: &VehicleState<B, So3Mat<B>>,
+        e_att: V3<B>,
+        rates: &mut [S<B>],
+    ) -> Result<ModeOutput<B>, ControlError> {
+        let out = attitude_control(
+            &self.params,
+            &self.att_gains,
+            state.r,
+            state.omega,
+            e_att,
+            &h.attitude,
+        )?;
+        let (a, p) = (
+            B::vec3_to_array(out.e_i_rate),
+            B::vec3_to_array(h.e_i_pos_rate),
+        );
+        *first_mut::<B, 6>(rates) = [a[0], a[1], a[2], p[0], p[1], p[2]];
+        Ok(ModeOutput {
+            thrust: h.thrust,
+            moment: out.moment,
+            desired: h.attitude.rd,
+            desired_omega: h.attitude.omega_d,
+            psi: out.psi,
+            rotor_speeds: None,
+        })
     }
 }

@@ -237,3 +237,97 @@ fn a_held_reference_read_in_place_commands_what_a_computed_one_does() {
     assert_eq!(oa.desired_omega, ob.desired_omega);
     assert_eq!(ra, rb);
 }
+
+/// A tilted, moving state away from the reference, and a register with
+/// both integrals nonzero.
+fn away() -> (VehicleState<B, R>, [f64; 6]) {
+    let s = VehicleState {
+        x: V::new(0.3, -0.2, 0.1),
+        v: V::new(0.5, 0.1, -0.2),
+        r: R::exp(V::new(0.2, -0.1, 0.4)),
+        omega: V::new(0.3, -0.5, 0.2),
+    };
+    (s, [0.01, -0.02, 0.03, 0.1, -0.05, 0.2])
+}
+
+/// The multi-rate position law: at its own outer instant the command is
+/// the single-rate law's bit for bit; between outer instants the thrust,
+/// `R_c`, `Ω_c` and `e_i`'s rate stay what the outer instant computed
+/// while the moment and `e_I`'s rate are the attitude law's (eqn:aM) on
+/// the held `R_c, Ω_c, Ω̇_c` at the new state (an independent call of
+/// `attitude_control`); entering the mode again drops the held output.
+#[test]
+fn the_position_mode_holds_its_outer_loop_between_outer_instants() {
+    let circle = |t: f64| {
+        let mut r = PositionReference::<B>::hold(V::new(t.cos(), t.sin(), 0.0), V::x());
+        r.v = V::new(-t.sin(), t.cos(), 0.0);
+        r.a = V::new(-t.cos(), -t.sin(), 0.0);
+        r.jerk = V::new(t.sin(), -t.cos(), 0.0);
+        r.snap = V::new(t.cos(), t.sin(), 0.0);
+        r
+    };
+    let mut m = paper_position_mode(circle);
+    let (s, reg) = away();
+    let (mut rates1, mut rates2) = ([0.0; 6], [0.0; 6]);
+    let single = m.command(0.4, &s, &reg, &mut rates1).unwrap();
+    m.update_outer(0.4, &s, &reg).unwrap();
+    let held = m.command(0.4, &s, &reg, &mut rates2).unwrap();
+    assert_eq!(single, held, "the outer instant's own command");
+    assert_eq!(rates1, rates2);
+
+    // 2 ms later, at another state: the attitude law on the held R_c.
+    let mut s2 = s;
+    s2.r = R::exp(V::new(0.21, -0.12, 0.41));
+    s2.omega = V::new(0.35, -0.45, 0.25);
+    s2.x += V::new(0.001, 0.0, 0.0);
+    let mut rates3 = [0.0; 6];
+    let later = m.command(0.402, &s2, &reg, &mut rates3).unwrap();
+    let fresh = m.command(0.402, &s2, &reg, &mut [0.0; 6]).unwrap();
+    assert_eq!(later, fresh, "a mode's answer is a function of its inputs");
+    assert_eq!(later.thrust, single.thrust);
+    assert_eq!(later.desired, single.desired);
+    assert_eq!(later.desired_omega, single.desired_omega);
+    assert_eq!(rates3[3..], rates1[3..], "e_i's rate is held");
+    let pos = position_control(
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
+        &PositionGains::paper(),
+        &AttitudeGains::paper(),
+        &PositionInput {
+            state: &s,
+            e_i_pos: V::new(0.1, -0.05, 0.2),
+            e_i_att: V::new(0.01, -0.02, 0.03),
+            reference: &circle(0.4),
+            model: AccelerationModel::Nominal,
+        },
+    )
+    .unwrap();
+    let att = attitude_control(
+        &RigidBodyParams::diagonal(paper::MASS, paper::INERTIA, paper::GRAVITY),
+        &AttitudeGains::paper(),
+        s2.r,
+        s2.omega,
+        V::new(0.01, -0.02, 0.03),
+        &AttitudeReference {
+            rd: pos.rc,
+            omega_d: pos.omega_c,
+            omega_d_dot: pos.omega_c_dot,
+        },
+    )
+    .unwrap();
+    assert_eq!(later.moment, att.moment);
+    assert_eq!(rates3[..3], *att.e_i_rate.as_slice());
+    // The single-rate law at s2 differs: the hold is not a no-op.
+    let mut plain = paper_position_mode(circle);
+    let now = plain.command(0.402, &s2, &reg, &mut [0.0; 6]).unwrap();
+    assert!((now.moment - later.moment).norm() > 1e-6);
+    assert!((now.thrust - later.thrust).abs() > 1e-6);
+
+    // Entering again: the single-rate law until the next outer instant.
+    let mut reg2 = reg;
+    m.enter(0.5, &s2, &mut reg2);
+    plain.enter(0.5, &s2, &mut reg2.clone());
+    assert_eq!(
+        m.command(0.5, &s2, &reg2, &mut [0.0; 6]).unwrap(),
+        plain.command(0.5, &s2, &reg2, &mut [0.0; 6]).unwrap()
+    );
+}

@@ -38,6 +38,7 @@ fn populated() -> Scene {
     });
     s.plan[0].until_psi = Some(0.1);
     s.seed = 7;
+    s.control.loop_rates = Some("crazyflie".into());
     s.sensors = Some(SensorsSpec {
         preset: "rotorpy".into(),
         noise_scale: 1.0,

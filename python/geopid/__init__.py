@@ -73,6 +73,8 @@ def load_scene(scene: SceneLike, **overrides: Any) -> Scene:
     """A validated :class:`Scene` from a built-in name, a file path, TOML
     text or a dict, with settings overridden by keyword (``integrator``,
     ``dt``, ``tol``, ``duration``, ``sample``, ``control_rate``,
+    ``loop_rates`` ("crazyflie": estimator, attitude and position at
+    1 kHz, 500 Hz and 100 Hz),
     ``scalar`` ("f32"/"f64"), ``backend`` ("nalgebra"/"glam"),
     ``no_integral``, ``sensors`` (a suite: "rotorpy", "crazyflie",
     "mpu9250", "fdcl-gazebo"), ``estimator`` ("none"/"mocap"), ``seed``;
@@ -184,6 +186,7 @@ def run(
     duration: Optional[float] = None,
     sample: Optional[float] = None,
     control_rate: Optional[float] = None,
+    loop_rates: Optional[str] = None,
     no_integral: bool = False,
     sensors: Optional[str] = None,
     estimator: Optional[str] = None,
@@ -227,6 +230,7 @@ def run(
         duration=duration,
         sample=sample,
         control_rate=control_rate,
+        loop_rates=loop_rates,
         no_integral=no_integral,
         sensors=sensors,
         estimator=estimator,

@@ -35,6 +35,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=float, help="s")
     r.add_argument("--sample", type=float, help="recording period, s")
     r.add_argument("--control-rate", type=float, help="sampled control at this rate, Hz")
+    r.add_argument("--loop-rates", metavar="PRESET", help="crazyflie: estimator 1 kHz, attitude 500 Hz, position 100 Hz")
     r.add_argument("--no-integral", action="store_true", help="the integral terms off")
     r.add_argument("--sensors", metavar="PRESET", help="rotorpy, crazyflie, mpu9250 or fdcl-gazebo")
     r.add_argument("--estimator", choices=["none", "mocap"], help="what the modes read")
@@ -69,6 +70,7 @@ def _main(argv: Optional[List[str]]) -> int:
             duration=args.duration,
             sample=args.sample,
             control_rate=args.control_rate,
+            loop_rates=args.loop_rates,
             no_integral=args.no_integral,
             sensors=args.sensors,
             estimator=args.estimator,

@@ -101,6 +101,7 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
             "duration" => o.duration = Some(v.extract()?),
             "sample" => o.sample = Some(v.extract()?),
             "control_rate" => o.control_rate = Some(v.extract()?),
+            "loop_rates" => o.loop_rates = Some(v.extract()?),
             "no_integral" => o.no_integral = v.extract()?,
             "sensors" => o.sensors = Some(v.extract()?),
             "seed" => o.seed = Some(v.extract()?),
@@ -128,7 +129,7 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "unknown setting `{key}`: expected integrator, dt, tol, duration, sample, \
-                     control_rate, scalar, backend, no_integral, sensors, estimator or seed"
+                     control_rate, loop_rates, scalar, backend, no_integral, sensors, estimator or seed"
                 )));
             }
         }
@@ -176,7 +177,7 @@ impl Scene {
     }
 
     /// The scene with settings replaced: keywords `integrator`, `dt`,
-    /// `tol`, `duration`, `sample`, `control_rate`, `scalar` ("f32" or
+    /// `tol`, `duration`, `sample`, `control_rate`, `loop_rates`, `scalar` ("f32" or
     /// "f64"), `backend` ("nalgebra" or "glam"), `no_integral`, `sensors`
     /// (a suite's name), `estimator` ("none" or "mocap"), `seed`; `None`
     /// keeps the scene's value. Validated: a bad value raises `SceneError`

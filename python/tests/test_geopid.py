@@ -681,3 +681,15 @@ def test_a_bad_sensor_setting_names_its_key():
     assert e.value.key == "estimator.kind" and "sampled" in str(e.value)
     with pytest.raises(geopid.SceneError):
         geopid.run("figure-eight", estimator="kalman")
+
+
+def test_loop_rates_fly_the_crazyflie_stabilizer_and_a_bad_name_is_refused():
+    res = geopid.run("figure-eight", loop_rates="crazyflie", duration=2.0)
+    # Estimator, attitude and position at 1 kHz, 500 Hz and 100 Hz: still on
+    # the curve, on another trajectory than one rate at 500 Hz.
+    assert res.ex[-1] < 0.1
+    single = geopid.run("figure-eight", control_rate=500.0, duration=2.0)
+    assert not np.array_equal(single.x, res.x)
+    with pytest.raises(geopid.SceneError) as e:
+        geopid.run("figure-eight", loop_rates="px4")
+    assert e.value.key == "control.loop_rates" and "px4" in str(e.value)

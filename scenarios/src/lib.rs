@@ -65,7 +65,7 @@ mod sim;
 
 pub use sim::{
     BreakpointCrossing, CAPACITIES, Condition, Control, Divergence, DivergenceGuard, Health,
-    MeasurementRecord, NavSample, OpenLoop, OutputError, PsiRange, Readout, RunOptions, RunOutput,
-    Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder, Sink,
-    StateLayout, SwitchRecord, Tee, Termination, Until, Watched,
+    LoopRates, MeasurementRecord, NavSample, OpenLoop, OutputError, PsiRange, Readout, RunOptions,
+    RunOutput, Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder,
+    Sink, StateLayout, SwitchRecord, Tee, Termination, Until, Watched,
 };

@@ -31,6 +31,9 @@ pub struct Overrides {
     /// Sampled control at this rate, Hz (zero-order hold between
     /// instants).
     pub control_rate: Option<f64>,
+    /// A flight computer's loop rates by name (`control.loop_rates`), in
+    /// place of the scene's rates.
+    pub loop_rates: Option<String>,
     /// Scalar type.
     pub scalar: Option<Scalar>,
     /// Linear-algebra backend.
@@ -78,6 +81,21 @@ impl Overrides {
         if self.control_rate.is_some() {
             scene.control.timing = Timing::Sampled;
         }
+        if let Some(name) = &self.loop_rates {
+            if self.control_rate.is_some() {
+                return Err(SceneError::at_key(
+                    "control.loop_rates",
+                    format!(
+                        "loop rates \"{name}\" set the control rate: give them or a control rate, not both"
+                    ),
+                ));
+            }
+            scene.control.timing = Timing::Sampled;
+            scene.control.loop_rates = Some(name.clone());
+            scene.control.rate = 0.0;
+            scene.control.position_rate = 0.0;
+            scene.control.estimator_rate = 0.0;
+        }
         scene.scalar = self.scalar.unwrap_or(scene.scalar);
         scene.backend = self.backend.unwrap_or(scene.backend);
         if self.no_integral {
@@ -120,6 +138,7 @@ mod tests {
             duration: Some(1.5),
             sample: Some(0.01),
             control_rate: Some(250.0),
+            loop_rates: None,
             scalar: Some(Scalar::F32),
             backend: Some(BackendKind::Glam),
             no_integral: true,

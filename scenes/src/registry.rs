@@ -21,12 +21,10 @@ use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S
 use crate::reference::{self, m, v};
 use crate::scene::{
     AccelModel, AttitudeRef, BackendKind, GainsSpec, PositionRef, Scalar, Scene, ThrustSpec,
-    Timing, VehicleKind,
+    VehicleKind,
 };
 use crate::{Error, SceneError, builtin};
-use scenarios::{
-    Control, RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until,
-};
+use scenarios::{RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until};
 
 /// A scene's attitude reference as an [`AttitudeSource`](controllers::AttitudeSource): a constant one is
 /// computed once, the others are evaluated (in f64) per call.
@@ -410,12 +408,12 @@ pub fn builder_from<B: Backend>(
         .record_every(scene.record.sample)
         .locate_events(scene.integrator.locate_events)
         .compensate_configuration_moment(scene.control.compensate_configuration_moment)
-        .control(match scene.control.timing {
-            Timing::Continuous => Control::Continuous,
-            Timing::Sampled => Control::Sampled {
-                rate: scene.control.rate,
-            },
-        });
+        .control(
+            scene
+                .control
+                .control()
+                .map_err(|(k, msg)| Error::at_key(k, msg))?,
+        );
     b = with_sensing(scene, b)?;
     for seg in plan {
         b = b.segment(seg);

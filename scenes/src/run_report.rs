@@ -4,7 +4,6 @@
 use std::fmt;
 
 use crate::Scene;
-use crate::scene::Timing;
 use scenarios::RunOutput;
 
 /// A run's summary as text (`Display`): the scene's settings, the final
@@ -42,10 +41,7 @@ impl fmt::Display for RunReport<'_> {
         } else {
             String::new()
         };
-        let control = match scene.control.timing {
-            Timing::Continuous => "continuous".to_string(),
-            Timing::Sampled => format!("sampled {} Hz", scene.control.rate),
-        };
+        let control = scene.control.describe();
         writeln!(
             w,
             "{} — {} s with {} (dt {}{tol}), {:?}/{:?}, {control} control",

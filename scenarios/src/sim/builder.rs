@@ -198,6 +198,9 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
                 format!("sampled rate {rate} Hz must be finite and > 0"),
             ));
         }
+        if let Control::MultiRate(r) = self.control {
+            r.check().map_err(|(_, msg)| bad("control", msg))?;
+        }
         if let Some(f) = self.initial.non_finite_field() {
             return Err(bad("initial", format!("`{f}` is not finite")));
         }

@@ -93,6 +93,9 @@ pub(crate) struct ClosedLoop<'s, 'a, B: Backend, const N: usize> {
     /// Sampled control: the held command.
     pub held: Option<Command<B, N>>,
     pub sampled: bool,
+    /// A multi-rate loop: the active mode's outer loop is updated at the
+    /// outer instants (see [`ClosedLoop::update_outer`]).
+    pub cascade: bool,
     /// Cancel the vehicle's configuration moment in the command.
     pub compensate: bool,
     pub inertia_inv: lie::M3<B>,
@@ -173,6 +176,7 @@ pub(crate) struct Parked<B: Backend, const N: usize> {
     layout: Layout,
     held: Option<Command<B, N>>,
     sampled: bool,
+    cascade: bool,
     compensate: bool,
     inertia_inv: lie::M3<B>,
     pub evaluations: u64,
@@ -236,6 +240,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             layout,
             held: None,
             sampled: false,
+            cascade: false,
             compensate: false,
             inertia_inv,
             evaluations: 0,
@@ -253,6 +258,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             layout: self.layout,
             held: self.held,
             sampled: self.sampled,
+            cascade: self.cascade,
             compensate: self.compensate,
             inertia_inv: self.inertia_inv,
             evaluations: self.evaluations,
@@ -278,6 +284,7 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             layout: p.layout,
             held: p.held,
             sampled: p.sampled,
+            cascade: p.cascade,
             compensate: p.compensate,
             inertia_inv: p.inertia_inv,
             evaluations: p.evaluations,
@@ -511,6 +518,39 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
                 self.command(S::<B>::lit(t), &ye)
             }
             _ => self.command(S::<B>::lit(t), y),
+        }
+    }
+
+    /// An outer instant of a multi-rate loop, or a mode's first instant in
+    /// one: the active mode updates its outer loop at the estimate (the
+    /// true state without an estimator). False when the mode rejected its
+    /// input (kept for the report: the caller holds no command); true
+    /// outside a multi-rate loop, where nothing is done.
+    pub fn update_outer(&mut self, t: f64, y: &State<B, N>) -> bool {
+        if !self.cascade {
+            return true;
+        }
+        let ye = match self.sensing.as_deref() {
+            Some(s) => s.estimated(y),
+            None => *y,
+        };
+        let Some(seg) = self.plan.get_mut(self.active) else {
+            return true;
+        };
+        let integrals = self.layout.integrals(&ye.extra);
+        match seg
+            .mode
+            .update_outer(S::<B>::lit(t), ye.body.as_group(), integrals)
+        {
+            Ok(()) => {
+                // The mode's answers change here.
+                self.answer = None;
+                true
+            }
+            Err(e) => {
+                self.complain(&ye, e);
+                false
+            }
         }
     }
 

@@ -9,6 +9,7 @@ use lie::{Backend, Real, S, SimdReal};
 use super::closed_loop::ClosedLoop;
 use super::emit::Emit;
 use super::events::{Crossing, event_derivatives, locate_condition, split_at_crossing};
+use super::grid::Arrival;
 use super::record::track_figures;
 use super::sense;
 use super::{BreakpointCrossing, RunOutput, SimError, Until};
@@ -122,7 +123,11 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
             *bps = b;
         }
         if sys.sampled {
-            sys.held = sys.control_command(tc, y);
+            sys.held = if sys.update_outer(tc, y) {
+                sys.control_command(tc, y)
+            } else {
+                None
+            };
         }
         track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
@@ -140,10 +145,15 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         stepper: &mut I,
         t: f64,
         y: &mut State<B, N>,
-        switch_due: bool,
-        control_due: bool,
+        due: Arrival,
     ) -> Result<Option<Vec<Breakpoint<B>>>, SimError> {
         let sys = &mut *self.sys;
+        let Arrival {
+            switch_due,
+            control_due,
+            outer_due,
+            ..
+        } = due;
         // Only a segment that ends at a time is left here (one waiting for
         // its condition stays active past a later segment's time).
         let mut leaves = switch_due
@@ -153,7 +163,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
                 .is_some_and(|s| matches!(s.until, Until::Time(u) if u <= t));
         // With an estimator, a condition is checked on the estimate at the
         // control instants, as a flight computer's scheduler would.
-        if sys.sampled && (leaves || control_due) {
+        if sys.sampled && (leaves || control_due || outer_due) {
             sys.refresh_estimate(t);
             leaves |= control_due
                 && sys.estimating()
@@ -166,7 +176,12 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
             None
         };
         let mut changed = new.is_some();
-        if sys.sampled && (changed || control_due) {
+        // A multi-rate loop's outer instant, or a mode's first instant in
+        // one: the outer loop first, then the command that tracks it.
+        if sys.cascade && (changed || outer_due) && !sys.update_outer(t, y) {
+            sys.held = None;
+            changed = true;
+        } else if sys.sampled && (changed || control_due) {
             sys.held = sys.control_command(t, y);
             changed = true;
         }

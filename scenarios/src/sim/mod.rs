@@ -144,6 +144,77 @@ pub enum Control {
         /// Control rate, Hz.
         rate: f64,
     },
+    /// A multi-rate loop, as a flight computer schedules its tasks: the
+    /// attitude law at [`LoopRates::attitude`] Hz (the held command, as
+    /// [`Control::Sampled`]), the outer loop of a cascaded mode (the
+    /// position law's `f, R_c, Ω_c, Ω̇_c`, see
+    /// [`controllers::Mode::update_outer`]) at [`LoopRates::position`] Hz
+    /// and held in between, and the estimator's estimate taken at
+    /// [`LoopRates::estimator`] Hz and read at the next control instant.
+    /// Steps land on the attitude and position instants; the rates need not
+    /// divide one another.
+    MultiRate(LoopRates),
+}
+
+impl Control {
+    /// The attitude (command) rate of sampled or multi-rate control.
+    pub fn command_rate(&self) -> Option<f64> {
+        match *self {
+            Control::Continuous => None,
+            Control::Sampled { rate } => Some(rate),
+            Control::MultiRate(r) => Some(r.attitude),
+        }
+    }
+}
+
+/// The rates of a multi-rate loop, Hz.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LoopRates {
+    /// The estimator: a control instant reads the estimate of the last of
+    /// its instants (each an instant `k / estimator`), from the
+    /// measurements arrived by then.
+    pub estimator: f64,
+    /// The attitude law: the command is held between its instants.
+    pub attitude: f64,
+    /// The outer (position) loop: at most `attitude`.
+    pub position: f64,
+}
+
+impl LoopRates {
+    /// The Crazyflie's stabilizer: estimator at 1 kHz, attitude at
+    /// 500 Hz, position at 100 Hz (the firmware's `RATE_MAIN_LOOP`,
+    /// `ATTITUDE_RATE` and `POSITION_RATE`).
+    pub const fn crazyflie() -> Self {
+        Self {
+            estimator: 1000.0,
+            attitude: 500.0,
+            position: 100.0,
+        }
+    }
+
+    /// The first rate that is not finite and positive, or a position rate
+    /// above the attitude rate: the field and why.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        for (field, r) in [
+            ("estimator", self.estimator),
+            ("attitude", self.attitude),
+            ("position", self.position),
+        ] {
+            if !(r.is_finite() && r > 0.0) {
+                return Err((field, format!("{field} rate {r} Hz must be finite and > 0")));
+            }
+        }
+        if self.position > self.attitude {
+            return Err((
+                "position",
+                format!(
+                    "position rate {} Hz is above the attitude rate {} Hz: the outer loop runs at most as often as the inner one",
+                    self.position, self.attitude
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// A simulation ready to run: build it with [`Simulation::builder`].

@@ -69,7 +69,7 @@ impl<'a, B: Backend> Settings<'a, B> {
             }
         }
         if let Some(e) = &self.estimator {
-            if !matches!(control, super::Control::Sampled { .. }) {
+            if control.command_rate().is_none() {
                 return Err(bad(
                     "estimator",
                     format!(
@@ -85,8 +85,11 @@ impl<'a, B: Backend> Settings<'a, B> {
                 ));
             }
         }
-        let s = Sensing::new(&self.suite, self.seed, self.estimator)
+        let mut s = Sensing::new(&self.suite, self.seed, self.estimator)
             .map_err(|source| SimError::Sensor { t: 0.0, source })?;
+        if let super::Control::MultiRate(r) = control {
+            s.estimator_period = 1.0 / r.estimator;
+        }
         Ok(Some(Box::new(s)))
     }
 }
@@ -114,6 +117,9 @@ pub(crate) struct Sensing<'a, B: Backend> {
     estimator: Option<Box<dyn Estimator<B> + 'a>>,
     /// The estimate of the last control instant.
     estimate: Option<NavState<B>>,
+    /// A multi-rate loop's estimator period (0: the estimate is taken at
+    /// each control instant).
+    estimator_period: f64,
     /// The latest of each measurement and the estimate, in `f64`.
     pub latest: Readout,
     /// Every measurement taken (when the run keeps them).
@@ -160,6 +166,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
             },
             estimator,
             estimate: None,
+            estimator_period: 0.0,
             latest: Readout::default(),
             log: Vec::new(),
             keep: true,
@@ -281,10 +288,25 @@ impl<'a, B: Backend> Sensing<'a, B> {
     }
 
     /// Hands the estimator every measurement arrived by `t` and keeps its
-    /// estimate for the control instant `t`.
+    /// estimate for the control instant `t`; in a multi-rate loop, by the
+    /// last estimator instant `k / rate` at or before `t` instead.
     pub fn refresh(&mut self, t: f64) {
         let Some(e) = self.estimator.as_mut() else {
             return;
+        };
+        let p = self.estimator_period;
+        let t = if p > 0.0 {
+            // The instant's index from the quotient, rounded up when `t`
+            // is on it to within rounding.
+            let q = t / p;
+            let k = if (q - q.round()).abs() <= 1e-9 * q.abs().max(1.0) {
+                q.round()
+            } else {
+                q.floor()
+            };
+            k * p
+        } else {
+            t
         };
         let tol = 1e-9 * t.abs().max(1e-3);
         // Every queue's arrived measurements, merged in arrival order (by

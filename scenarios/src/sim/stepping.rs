@@ -82,13 +82,19 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
     plan: &mut [Segment<'a, B>],
     s: &Settings,
 ) -> Result<Running<B, N>, SimError> {
-    let sampled = matches!(s.control, Control::Sampled { .. }) && !plan.is_empty();
-    let ctrl = match s.control {
-        Control::Sampled { rate } if sampled => 1.0 / rate,
+    let sampled = s.control.command_rate().is_some() && !plan.is_empty();
+    let ctrl = match s.control.command_rate() {
+        Some(rate) if sampled => 1.0 / rate,
+        _ => 0.0,
+    };
+    // A multi-rate loop whose rates are equal is the single-rate loop.
+    let outer = match s.control {
+        Control::MultiRate(r) if sampled && r.position < r.attitude => 1.0 / r.position,
         _ => 0.0,
     };
     let sys = ClosedLoop {
         sampled,
+        cascade: outer > 0.0,
         compensate: s.compensate,
         ..ClosedLoop::new(vehicle, wind, plan, s.layout)?
     };
@@ -99,7 +105,7 @@ pub(crate) fn prepare<'a, B: Backend, const N: usize>(
         .wind
         .as_deref()
         .map_or_else(Vec::new, |w| w.jumps(s.t_end));
-    let grid = Grid::new(sys.plan, ctrl, s.t_end, jumps);
+    let grid = Grid::new(sys.plan, (ctrl, outer), s.t_end, jumps);
     Ok(Running {
         t: 0.0,
         done: None,
@@ -425,15 +431,15 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
         let r = &mut *self.r;
         let t = r.t_next;
         r.t = t;
-        let (switch_due, control_due, jump) = r.grid.arrive(t);
-        if jump {
+        let due = r.grid.arrive(t);
+        if due.jump {
             // The wind changes here: read on its new side from now on, and
             // no load of the old side carried into the next step.
             self.sys.wind_from = t;
             self.stepper.reset();
         }
         let mut cx = Cx::new(self.sys, self.emit, &mut r.out, r.locate_events);
-        if let Some(b) = cx.at_checkpoint(self.stepper, t, self.y, switch_due, control_due)? {
+        if let Some(b) = cx.at_checkpoint(self.stepper, t, self.y, due)? {
             r.bps = b;
         }
         if r.extrema || t >= r.t_end {
@@ -565,7 +571,11 @@ fn begin<B: Backend, const N: usize>(
     let l = S::<B>::lit;
     sense::start(sys, y)?;
     if sys.sampled {
-        sys.held = sys.control_command(0.0, y);
+        sys.held = if sys.update_outer(0.0, y) {
+            sys.control_command(0.0, y)
+        } else {
+            None
+        };
     }
     sense::after_first_command(sys, y)?;
     if sys.layout.vehicle_states > 0 && !vehicle_states_given {

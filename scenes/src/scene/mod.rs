@@ -6,6 +6,7 @@ use controllers::paper as paper_gains;
 use dynamics::{MultirotorParams, paper};
 use serde::{Deserialize, Serialize};
 
+mod control;
 mod format;
 mod locate;
 mod sensing;
@@ -607,8 +608,18 @@ impl Default for IntegratorSpec {
 pub struct ControlSpec {
     /// `continuous` (controller inside the vector field) or `sampled`.
     pub timing: Timing,
-    /// Sampled: controller rate, Hz.
+    /// Sampled: controller rate, Hz (the attitude law's in a multi-rate
+    /// loop).
     pub rate: f64,
+    /// Sampled: the position law's rate, Hz, held in between (0: `rate`).
+    pub position_rate: f64,
+    /// Sampled with an estimator: the rate the estimate is taken at, Hz
+    /// (0: at every control instant).
+    pub estimator_rate: f64,
+    /// A flight computer's loop rates by name, in place of the three
+    /// rates: `crazyflie` (estimator 1 kHz, attitude 500 Hz, position
+    /// 100 Hz).
+    pub loop_rates: Option<String>,
     /// Add `−M_cfg(R)`, the vehicle's known configuration moment (gravity
     /// about the stand's pivot), to the commanded moment: the compensation
     /// term the paper adds for its experiment.

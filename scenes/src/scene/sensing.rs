@@ -142,7 +142,11 @@ impl super::Scene {
         if e.kind == EstimatorKind::None {
             return Ok(());
         }
-        if self.control.timing != super::Timing::Sampled {
+        if self
+            .control
+            .control()
+            .is_ok_and(|c| c.command_rate().is_none())
+        {
             return Err((
                 "estimator.kind",
                 format!(

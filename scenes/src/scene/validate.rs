@@ -219,7 +219,8 @@ impl Scene {
         pos("integrator.tol", self.integrator.tol)?;
         // Checked even when unused (continuous control): a NaN in a file
         // is a mistake whatever the timing.
-        if self.control.timing == Timing::Sampled {
+        self.control.control()?;
+        if self.control.timing == Timing::Sampled && self.control.loop_rates.is_none() {
             if !(self.control.rate.is_finite() && self.control.rate > 0.0) {
                 return Err((
                     "control.rate",
