@@ -3,7 +3,7 @@
 //! every noise of the sensor suite, over independent noise seeds.
 
 use scenarios::RunOptions;
-use scenes::scene::{EstimatorKind, EstimatorSpec, SensorsSpec, Timing};
+use scenes::scene::{ControlSpec, EstimatorKind, EstimatorSpec, SensorsSpec, Timing};
 use scenes::{Error, Scene};
 
 /// One cell of a sweep: a latency and a noise scale, over every seed.
@@ -94,23 +94,11 @@ impl Sweep {
                 }
             }
         }
-        // Refused settings surface before any run.
-        if let Some(&(l, k, seed)) = jobs.first() {
-            let s = self.scene_of(l, k, seed);
-            scenes::builder::<lie::NalgebraF64>(&s)?.build()?;
-        }
-        let index: Vec<u64> = (0..jobs.len() as u64).collect();
-        let rms = crate::montecarlo::parallel_map(&index, threads, |&i| {
-            let (l, k, seed) = jobs[i as usize];
-            let opts = RunOptions {
-                extrema: false,
-                ..Default::default()
-            };
-            Ok(match scenes::run(&self.scene_of(l, k, seed), opts) {
-                Ok(out) => crate::metrics::rms_position_error(&out.samples),
-                Err(_) => f64::NAN,
-            })
-        })?;
+        let runs: Vec<Scene> = jobs
+            .iter()
+            .map(|&(l, k, seed)| self.scene_of(l, k, seed))
+            .collect();
+        let rms = rms_of(&runs, threads)?;
         let per = self.seeds.len();
         Ok(jobs
             .chunks(per)
@@ -124,17 +112,107 @@ impl Sweep {
     }
 }
 
+/// Each scene's RMS position error (`NaN` for a run that failed), on
+/// `threads` threads; a scene refused is an error before any run.
+fn rms_of(runs: &[Scene], threads: Option<usize>) -> Result<Vec<f64>, Error> {
+    if let Some(s) = runs.first() {
+        scenes::builder::<lie::NalgebraF64>(s)?.build()?;
+    }
+    let index: Vec<u64> = (0..runs.len() as u64).collect();
+    crate::montecarlo::parallel_map(&index, threads, |&i| {
+        let opts = RunOptions {
+            extrema: false,
+            ..Default::default()
+        };
+        Ok(match scenes::run(&runs[i as usize], opts) {
+            Ok(out) => crate::metrics::rms_position_error(&out.samples),
+            Err(_) => f64::NAN,
+        })
+    })
+}
+
+/// The same scene on the mocap estimator under several control timings
+/// (one rate, or a multi-rate loop), over independent noise seeds.
+#[derive(Clone, Debug)]
+pub struct LoopSweep {
+    /// The scene (its sensors and estimator are replaced).
+    pub scene: Scene,
+    /// The sensor suite, at its own latency and rates.
+    pub preset: String,
+    /// Each timing with its label.
+    pub loops: Vec<(String, ControlSpec)>,
+    /// The noise scales.
+    pub noise_scales: Vec<f64>,
+    /// The seeds of each cell.
+    pub seeds: Vec<u64>,
+}
+
+impl LoopSweep {
+    /// Per timing and noise scale (timings outer), the RMS over every
+    /// seed; a cell's `latency` is the timing's index in `loops`.
+    pub fn run(&self, threads: Option<usize>) -> Result<Vec<Cell>, Error> {
+        let mut runs = Vec::new();
+        let mut cells = Vec::new();
+        for (i, (_, control)) in self.loops.iter().enumerate() {
+            for &k in &self.noise_scales {
+                for &seed in &self.seeds {
+                    let mut s = self.scene.clone();
+                    s.control = control.clone();
+                    s.seed = seed;
+                    s.sensors = Some(SensorsSpec {
+                        preset: self.preset.clone(),
+                        noise_scale: k,
+                        mocap_latency: None,
+                        mocap_rate: None,
+                    });
+                    s.estimator = Some(EstimatorSpec {
+                        kind: EstimatorKind::Mocap,
+                        gyro_rates: false,
+                    });
+                    runs.push(s);
+                }
+                cells.push(Cell {
+                    latency: i as f64,
+                    noise_scale: k,
+                    rms: Vec::new(),
+                });
+            }
+        }
+        let rms = rms_of(&runs, threads)?;
+        for (c, r) in cells.iter_mut().zip(rms.chunks(self.seeds.len())) {
+            c.rms = r.to_vec();
+        }
+        Ok(cells)
+    }
+
+    /// The cells as a Markdown table, a row per timing (its label).
+    pub fn table(&self, cells: &[Cell]) -> String {
+        labelled_table(cells, "loop", |c| {
+            let i = c.latency as usize;
+            self.loops
+                .get(i)
+                .map_or_else(|| i.to_string(), |l| l.0.clone())
+        })
+    }
+}
+
 /// The cells as a Markdown table: latencies down, noise scales across,
 /// each entry the mean RMS position error ± its standard deviation over the
 /// seeds not lost, in mm, with the count lost.
 pub fn table(cells: &[Cell]) -> String {
+    labelled_table(cells, "latency", |c| format!("{} ms", c.latency * 1e3))
+}
+
+/// [`table`] with the first column headed `head` and each row labelled
+/// by `label` of its first cell.
+fn labelled_table(cells: &[Cell], head: &str, label: impl Fn(&Cell) -> String) -> String {
     let mut scales: Vec<f64> = Vec::new();
     for c in cells {
         if !scales.contains(&c.noise_scale) {
             scales.push(c.noise_scale);
         }
     }
-    let mut t = String::from("| latency |");
+    let mut t = format!("| {head} |");
     for k in &scales {
         t.push_str(&format!(" noise ×{k} |"));
     }
@@ -148,7 +226,7 @@ pub fn table(cells: &[Cell]) -> String {
                 t.push('\n');
             }
             latency = c.latency;
-            t.push_str(&format!("| {} ms |", c.latency * 1e3));
+            t.push_str(&format!("| {} |", label(c)));
         }
         let (mean, sd, lost) = c.stats();
         let n = c.rms.len();
@@ -201,6 +279,38 @@ mod tests {
             assert_eq!(distinct, c.noise_scale > 0.0, "{c:?}");
         }
         assert!(table(&one).contains("| 20 ms |"));
+    }
+
+    /// A loop sweep labels its rows by timing; without noise each seed
+    /// flies the same, and the timings differ from one another.
+    #[test]
+    fn a_loop_sweep_has_a_row_per_timing() {
+        let mut scene = scenes::builtin::figure_eight();
+        scene.duration = 1.0;
+        let one = ControlSpec {
+            timing: Timing::Sampled,
+            rate: 500.0,
+            ..ControlSpec::default()
+        };
+        let multi = ControlSpec {
+            position_rate: 50.0,
+            ..one.clone()
+        };
+        let sweep = LoopSweep {
+            scene,
+            preset: "crazyflie".into(),
+            loops: vec![("one rate".into(), one), ("500/50 Hz".into(), multi)],
+            noise_scales: vec![0.0],
+            seeds: vec![1, 2],
+        };
+        let cells = sweep.run(Some(2)).expect("sweep");
+        assert_eq!(cells.len(), 2);
+        for c in &cells {
+            assert_eq!(c.rms[0], c.rms[1], "{c:?}");
+        }
+        assert_ne!(cells[0].rms[0], cells[1].rms[0]);
+        let t = sweep.table(&cells);
+        assert!(t.contains("| loop |") && t.contains("| 500/50 Hz |"), "{t}");
     }
 
     /// A sensor suite the scene cannot fly is an error before any run.
