@@ -322,9 +322,13 @@ pub trait Mode<B: Backend, R: Rotation<B> = So3Mat<B>> {
     /// before `command` at the same instant and after [`Mode::enter`];
     /// a single-rate loop never calls it, and the law stays the paper's.
     /// The default does nothing: a law without an outer loop runs whole at
-    /// every command.
+    /// every command. Not a method to implement, like
+    /// [`Mode::load_command`]: the multi-rate hold belongs to this crate's
+    /// cascaded laws, and a mode of yours runs whole at every command.
+    #[doc(hidden)]
     fn update_outer(
         &mut self,
+        _sealed: sealed::Token,
         _t: S<B>,
         _state: &VehicleState<B, R>,
         _integrals: &[S<B>],
@@ -386,11 +390,12 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
     }
     fn update_outer(
         &mut self,
+        sealed: sealed::Token,
         t: S<B>,
         state: &VehicleState<B, R>,
         integrals: &[S<B>],
     ) -> Result<(), ControlError> {
-        (**self).update_outer(t, state, integrals)
+        (**self).update_outer(sealed, t, state, integrals)
     }
     fn desired_position(&self, t: f64) -> Option<[f64; 3]> {
         (**self).desired_position(t)
@@ -555,7 +560,7 @@ impl<B: Backend, A: AttitudeSource<B>, P: PositionSource<B>> Mode<B> for Attitud
 /// Its breakpoints are the three components of `e_i` at `±σ` (when any
 /// `k_i > 0`: otherwise `sat′` does not reach the command).
 ///
-/// In a multi-rate loop ([`Mode::update_outer`]) the position law runs at
+/// In a multi-rate loop (`scenarios::Control::MultiRate`) the position law runs at
 /// the outer instants and its output is held between them: the thrust
 /// `f`, the computed attitude `R_c` with `Ω_c` and `Ω̇_c` (eqn:RdWc), and
 /// the rate of `e_i`; at every command the attitude law (eqn:aM) tracks
@@ -696,6 +701,7 @@ impl<B: Backend, P: PositionSource<B>> Mode<B> for PositionMode<B, P> {
     }
     fn update_outer(
         &mut self,
+        _sealed: sealed::Token,
         t: S<B>,
         state: &VehicleState<B, So3Mat<B>>,
         integrals: &[S<B>],

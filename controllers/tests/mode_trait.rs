@@ -270,7 +270,8 @@ fn the_position_mode_holds_its_outer_loop_between_outer_instants() {
     let (s, reg) = away();
     let (mut rates1, mut rates2) = ([0.0; 6], [0.0; 6]);
     let single = m.command(0.4, &s, &reg, &mut rates1).unwrap();
-    m.update_outer(0.4, &s, &reg).unwrap();
+    m.update_outer(controllers::load_token(), 0.4, &s, &reg)
+        .unwrap();
     let held = m.command(0.4, &s, &reg, &mut rates2).unwrap();
     assert_eq!(single, held, "the outer instant's own command");
     assert_eq!(rates1, rates2);

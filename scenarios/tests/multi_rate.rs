@@ -3,16 +3,13 @@
 //! states, its instants counted where the rates do not divide, equal rates
 //! as the single-rate loop, and the estimator's own rate.
 
-use std::cell::RefCell;
-use std::rc::Rc;
-
 use controllers::{
-    AccelerationModel, AttitudeGains, AttitudeReference, ControlError, IntegralLayout, Mode,
-    ModeOutput, PositionGains, PositionInput, PositionMode, PositionReference, RigidBodyParams,
-    VehicleState, attitude_control, position_control,
+    AccelerationModel, AttitudeGains, AttitudeReference, Mode, PositionGains, PositionInput,
+    PositionMode, PositionReference, RigidBodyParams, VehicleState, attitude_control,
+    position_control,
 };
 use dynamics::{Quadrotor, RigidBodyState, paper};
-use lie::{NalgebraF64, S, So3Mat, V3};
+use lie::{NalgebraF64, So3Mat, V3};
 use scenarios::{Control, LoopRates, RunOutput, Sample, Simulation, Until};
 use sensors::{MocapEstimator, MocapSpec, SensorSuite};
 
@@ -55,12 +52,21 @@ fn start() -> RigidBodyState<B> {
 }
 
 fn fly<M: Mode<B> + 'static>(mode: M, control: Control, duration: f64) -> RunOutput {
+    fly_recorded(mode, control, duration, 0.002)
+}
+
+fn fly_recorded<M: Mode<B> + 'static>(
+    mode: M,
+    control: Control,
+    duration: f64,
+    record: f64,
+) -> RunOutput {
     Simulation::<B>::builder(Box::new(Quadrotor::<B>::paper()))
         .mode(mode, Until::Never)
         .initial(start())
         .dt(1e-3)
         .duration(duration)
-        .record_every(0.002)
+        .record_every(record)
         .control(control)
         .build()
         .unwrap()
@@ -156,69 +162,49 @@ fn the_position_law_is_held_between_its_instants() {
     assert!(multi_e < 0.05 && (multi_e - single_e).abs() < 0.01);
 }
 
-/// Counts its outer instants, forwarding everything to the circle mode.
-struct Counting {
-    inner: PositionMode<B, fn(f64) -> PositionReference<B>>,
-    at: Rc<RefCell<Vec<f64>>>,
-}
-
-impl Mode<B> for Counting {
-    fn name(&self) -> &'static str {
-        "counting"
-    }
-    fn integrals(&self) -> IntegralLayout<'_, B> {
-        self.inner.integrals()
-    }
-    fn command(
-        &self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        integrals: &[S<B>],
-        rates: &mut [S<B>],
-    ) -> Result<ModeOutput<B>, ControlError> {
-        self.inner.command(t, state, integrals, rates)
-    }
-    fn update_outer(
-        &mut self,
-        t: S<B>,
-        state: &VehicleState<B, So3Mat<B>>,
-        integrals: &[S<B>],
-    ) -> Result<(), ControlError> {
-        self.at.borrow_mut().push(t);
-        self.inner.update_outer(t, state, integrals)
-    }
-}
-
-/// Rates that do not divide (attitude 300 Hz, position 70 Hz): the outer
-/// loop runs at exactly the instants `k/70` (computed as `k·(1/70)`, never
-/// summed), 71 of them over 1 s; steps land on both series, so the
-/// recorded thrust changes only at those instants. A single-rate loop
-/// never calls it.
+/// Rates that do not divide (attitude 300 Hz, position 70 Hz), recorded
+/// at 10 kHz: the outer loop runs at each instant `k/70` (computed as
+/// `k·(1/70)`, never summed) and the motor command, a zero-order hold
+/// renewed by the attitude loop, takes its new thrust at the first
+/// attitude instant `j/300` at or after it, `j = ⌈30k/7⌉`, as a flight
+/// computer's attitude task reads the latest position setpoint at its own
+/// tick. So the recorded thrust changes once per outer instant, 70 times
+/// over 1 s, at those attitude instants only. A single-rate loop at 300
+/// Hz changes it at every one of its own instants instead.
 #[test]
 fn outer_instants_where_the_rates_do_not_divide() {
-    let at = Rc::new(RefCell::new(Vec::new()));
-    let mode = Counting {
-        inner: circle_mode(),
-        at: at.clone(),
-    };
     let rates = LoopRates {
         estimator: 300.0,
         attitude: 300.0,
         position: 70.0,
     };
-    fly(mode, Control::MultiRate(rates), 1.0);
-    let at = at.borrow();
-    assert_eq!(at.len(), 71, "{at:?}");
-    for (k, t) in at.iter().enumerate() {
-        assert_eq!(*t, (k as f64 * (1.0 / 70.0)).min(1.0), "instant {k}");
-    }
-    let none = Rc::new(RefCell::new(Vec::new()));
-    let mode = Counting {
-        inner: circle_mode(),
-        at: none.clone(),
+    let changes = |control: Control, duration: f64| -> Vec<(f64, f64)> {
+        let out = fly_recorded(circle_mode(), control, duration, 1e-4);
+        out.samples
+            .windows(2)
+            .filter(|w| w[0].thrust != w[1].thrust)
+            .map(|w| (w[0].t, w[1].t))
+            .collect()
     };
-    fly(mode, Control::Sampled { rate: 300.0 }, 0.2);
-    assert!(none.borrow().is_empty());
+    // An instant `c` is in `(a, b]`; 1e-12 s covers the rounding of the
+    // recorded times, far below the 1e-4 s between samples.
+    let inside = |(a, b): (f64, f64), c: f64| c > a + 1e-12 && c <= b + 1e-12;
+    let multi = changes(Control::MultiRate(rates), 1.0);
+    let takes: Vec<f64> = (1..=70)
+        .map(|k| ((30 * k + 6) / 7) as f64 * (1.0 / 300.0))
+        .collect();
+    assert_eq!(multi.len(), takes.len(), "{multi:?}");
+    for (k, (w, c)) in multi.iter().zip(&takes).enumerate() {
+        assert!(inside(*w, *c), "change {k} at {w:?}, attitude instant {c}");
+    }
+    let single = changes(Control::Sampled { rate: 300.0 }, 0.2);
+    assert_eq!(single.len(), 60, "{single:?}");
+    for (k, w) in single.iter().enumerate() {
+        assert!(
+            inside(*w, (k + 1) as f64 * (1.0 / 300.0)),
+            "change {k} at {w:?}"
+        );
+    }
 }
 
 /// Equal attitude and position rates are the single-rate loop, bit for

@@ -538,10 +538,12 @@ impl<'s, 'a, B: Backend, const N: usize> ClosedLoop<'s, 'a, B, N> {
             return true;
         };
         let integrals = self.layout.integrals(&ye.extra);
-        match seg
-            .mode
-            .update_outer(S::<B>::lit(t), ye.body.as_group(), integrals)
-        {
+        match seg.mode.update_outer(
+            controllers::load_token(),
+            S::<B>::lit(t),
+            ye.body.as_group(),
+            integrals,
+        ) {
             Ok(()) => {
                 // The mode's answers change here.
                 self.answer = None;

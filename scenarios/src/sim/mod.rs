@@ -147,12 +147,13 @@ pub enum Control {
     /// A multi-rate loop, as a flight computer schedules its tasks: the
     /// attitude law at [`LoopRates::attitude`] Hz (the held command, as
     /// [`Control::Sampled`]), the outer loop of a cascaded mode (the
-    /// position law's `f, R_c, Ω_c, Ω̇_c`, see
-    /// [`controllers::Mode::update_outer`]) at [`LoopRates::position`] Hz
-    /// and held in between, and the estimator's estimate taken at
-    /// [`LoopRates::estimator`] Hz and read at the next control instant.
-    /// Steps land on the attitude and position instants; the rates need not
-    /// divide one another.
+    /// position law's `f, R_c, Ω_c, Ω̇_c`, see [`controllers::PositionMode`])
+    /// at [`LoopRates::position`] Hz and held in between, and the
+    /// estimator's estimate taken at [`LoopRates::estimator`] Hz and read at
+    /// the next control instant. Steps land on the attitude and position
+    /// instants; the rates need not divide one another, and an outer
+    /// output reaches the motors at the next attitude instant at or after
+    /// its own.
     MultiRate(LoopRates),
 }
 
