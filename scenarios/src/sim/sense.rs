@@ -66,10 +66,19 @@ fn rates_at<B: Backend, const N: usize>(
     t: f64,
     y: &State<B, N>,
 ) -> Result<dense::Rates<B, N>, SimError> {
-    let (counted, kept) = (sys.evaluations, sys.answer.take());
+    // The kept answer is moved out and back only when there is one (a
+    // continuous loop's): it holds a whole state.
+    let counted = sys.evaluations;
+    let kept = if sys.answer.is_some() {
+        sys.answer.take()
+    } else {
+        None
+    };
     let l = sys.load(S::<B>::lit(t), y);
     sys.evaluations = counted;
-    sys.answer = kept;
+    if kept.is_some() {
+        sys.answer = kept;
+    }
     if let Some(source) = sys.error.take() {
         return Err(SimError::Control { t, source });
     }
@@ -117,18 +126,20 @@ fn sample_piece<B: Backend, const N: usize, I: Integrator<B, N>>(
             if tk > t1 + tol {
                 break;
             }
+            let inside;
             let y = if (tk - t1).abs() <= tol {
-                *y1
+                y1
             } else {
-                state_inside(sys, stepper, &mut ext, (t0, y0), (t1, y1), tk)?
+                inside = state_inside(sys, stepper, &mut ext, (t0, y0), (t1, y1), tk)?;
+                &inside
             };
             let rates = if s == IMU {
-                Some(rates_at(sys, tk, &y)?)
+                Some(rates_at(sys, tk, y)?)
             } else {
                 None
             };
             if let Some(sn) = sys.sensing.as_deref_mut() {
-                sn.take(s, tk, &y, rates.as_ref(), g)?;
+                sn.take(s, tk, y, rates.as_ref(), g)?;
             }
         }
     }

@@ -124,6 +124,9 @@ pub(crate) struct Sensing<'a, B: Backend> {
     pub latest: Readout,
     /// Every measurement taken (when the run keeps them).
     pub log: Vec<MeasurementRecord>,
+    /// Whether the run records samples or feeds a sink: without either,
+    /// the measurements are neither logged nor read out into `latest`
+    /// (nothing would read them); the estimate always is.
     pub keep: bool,
 }
 
@@ -230,9 +233,11 @@ impl<'a, B: Backend> Sensing<'a, B> {
                     alpha: r.omega_dot,
                 };
                 let m = imu.sample(k, &kin, g).map_err(sensor_error)?;
-                self.latest.accel = Some(lie::ops::vec3_f64::<B>(m.accel));
-                self.latest.gyro = Some(lie::ops::vec3_f64::<B>(m.gyro));
-                self.record(MeasurementRecord::imu::<B>(&m));
+                if self.keep {
+                    self.latest.accel = Some(lie::ops::vec3_f64::<B>(m.accel));
+                    self.latest.gyro = Some(lie::ops::vec3_f64::<B>(m.gyro));
+                    self.log.push(MeasurementRecord::imu::<B>(&m));
+                }
                 self.push(IMU, tk, Measurement::Imu(m));
             }
             MOCAP => {
@@ -241,9 +246,11 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let latency = mocap.spec().latency;
                 if let Some(m) = mocap.frame::<B>(k, b.x, b.v, b.r, b.omega) {
-                    let rec = MeasurementRecord::mocap::<B>(&m, tk + latency);
-                    self.latest.mocap_x = Some(lie::ops::vec3_f64::<B>(m.x));
-                    self.record(rec);
+                    if self.keep {
+                        self.latest.mocap_x = Some(lie::ops::vec3_f64::<B>(m.x));
+                        self.log
+                            .push(MeasurementRecord::mocap::<B>(&m, tk + latency));
+                    }
                     self.push(MOCAP, tk + latency, Measurement::Mocap(m));
                 }
             }
@@ -253,8 +260,10 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let delay = gps.spec().delay;
                 let m = gps.fix::<B>(k, b.x, b.v);
-                self.latest.gps_x = Some(lie::ops::vec3_f64::<B>(m.x));
-                self.record(MeasurementRecord::gps::<B>(&m, tk + delay));
+                if self.keep {
+                    self.latest.gps_x = Some(lie::ops::vec3_f64::<B>(m.x));
+                    self.log.push(MeasurementRecord::gps::<B>(&m, tk + delay));
+                }
                 self.push(GPS, tk + delay, Measurement::Gps(m));
             }
             _ => {
@@ -263,21 +272,17 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let height = -B::vec3_to_array(b.x)[2].to_f64_lossless();
                 let m = baro.sample(k, height).map_err(sensor_error)?;
-                self.latest.baro = Some(m.height);
-                self.record(MeasurementRecord::Baro {
-                    t: m.t,
-                    height: m.height,
-                });
+                if self.keep {
+                    self.latest.baro = Some(m.height);
+                    self.log.push(MeasurementRecord::Baro {
+                        t: m.t,
+                        height: m.height,
+                    });
+                }
                 self.push(BARO, tk, Measurement::Baro(m));
             }
         }
         Ok(())
-    }
-
-    fn record(&mut self, m: MeasurementRecord) {
-        if self.keep {
-            self.log.push(m);
-        }
     }
 
     /// Starts the estimator from the true state `y` at `t = 0`.
