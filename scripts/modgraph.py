@@ -29,7 +29,7 @@ import sys
 from collections import defaultdict
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CRATES = ["lie", "dynamics", "controllers", "integrators", "sensors", "scenarios", "logs", "scenes", "studies",
+CRATES = ["lie", "dynamics", "controllers", "integrators", "sensors", "missions", "scenarios", "logs", "scenes", "studies",
           "geopid", "cli", "xtask", "python", "testkit", "capi"]
 # Layers of a crate's top-level modules, bottom first: a module may name
 # modules of its own layer or below, never above. Every top-level module

@@ -44,3 +44,6 @@ pub mod flying_on_sensors {
     #![doc = include_str!("../guide/14-sensors.md")]
     #![doc = include_str!("../guide/figures/sensing.md")]
 }
+pub mod missions {
+    #![doc = include_str!("../guide/15-missions.md")]
+}

@@ -41,6 +41,7 @@ pub use dynamics;
 pub use integrators;
 pub use lie;
 pub use logs;
+pub use missions;
 pub use scenarios;
 pub use scenes;
 pub use sensors;
