@@ -116,6 +116,16 @@ impl Trajectory {
         out
     }
 
+    /// The velocity at each piece's midpoint in time, m/s: where RotorPy
+    /// bounds each component by its `v_max` (as an inequality of its QP).
+    /// This planner enforces no such bound; compare these with yours.
+    pub fn midpoint_velocities(&self) -> Vec<[f64; 3]> {
+        self.pieces
+            .iter()
+            .map(|p| std::array::from_fn(|a| p.eval(a, 1, 0.5 * p.duration)))
+            .collect()
+    }
+
     /// The same trajectory in a z-up frame (the Crazyflie's, RotorPy's):
     /// `(x, y, z) ↦ (x, −y, −z)` and `ψ ↦ −ψ`, a rotation by π about e₁;
     /// coefficients are negated, so the map is exact and its own inverse.
