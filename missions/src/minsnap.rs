@@ -19,6 +19,10 @@ pub enum Timing {
     MeanSpeed(f64),
     /// The time at each waypoint, s, from 0 at the first and increasing.
     At(Vec<f64>),
+    /// A total time, s, shared out between the segments to minimise the
+    /// snap cost of x, y and z (Mellinger & Kumar's time allocation, by
+    /// gradient descent from durations in proportion to the lengths).
+    Budget(f64),
 }
 
 /// A minimum-snap problem: waypoints, an optional yaw at each, the timing
@@ -74,6 +78,13 @@ impl MinSnap {
         self
     }
 
+    /// A total time of `seconds`, shared out between the segments to
+    /// minimise the snap cost ([`Timing::Budget`]).
+    pub fn time_budget(mut self, seconds: f64) -> Self {
+        self.timing = Timing::Budget(seconds);
+        self
+    }
+
     /// The velocity at the first and at the last waypoint, m/s.
     pub fn end_velocities(mut self, start: [f64; 3], end: [f64; 3]) -> Self {
         self.ends = [start, end];
@@ -117,22 +128,15 @@ impl MinSnap {
                 if !(v.is_finite() && *v > 0.0) {
                     return Err(input("mean_speed", *v, "positive and finite (m/s)"));
                 }
-                let extent = w.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
-                let mut out = Vec::with_capacity(w.len() - 1);
-                for (i, s) in w.windows(2).enumerate() {
-                    let d = dist(s[0], s[1]);
-                    // Below this the segment's polynomial cannot be told
-                    // from a point: its coefficients scale as 1/T⁷.
-                    if d <= 1e-9 * extent {
-                        let expected = format!(
-                            "apart from waypoint {i} to time a segment by its length \
-                             (give times, or drop one of the two)"
-                        );
-                        return Err(input(format!("waypoints[{}] distance", i + 1), d, expected));
-                    }
-                    out.push(d / v);
+                Ok(lengths(w)?.iter().map(|d| d / v).collect())
+            }
+            Timing::Budget(total) => {
+                if !(total.is_finite() && *total > 0.0) {
+                    return Err(input("time_budget", *total, "positive and finite (s)"));
                 }
-                Ok(out)
+                let l = lengths(w)?;
+                let sum: f64 = l.iter().sum();
+                self.allot(l.iter().map(|d| total * d / sum).collect())
             }
             Timing::At(t) => {
                 if t.len() != w.len() {
@@ -154,6 +158,80 @@ impl MinSnap {
                 Ok(out)
             }
         }
+    }
+
+    /// The snap cost `Σ ∫ ‖x⁽⁴⁾‖² dt` of x, y and z (yaw left out) of the
+    /// minimum-snap pieces with these segment `durations`, m²/s⁷: what
+    /// [`Timing::Budget`] minimises, and a way to compare allocations.
+    pub fn snap_cost(&self, durations: &[f64]) -> Result<f64, MissionError> {
+        let mut cost = 0.0;
+        for (a, axis) in ["x", "y", "z"].into_iter().enumerate() {
+            let points: Vec<f64> = self.waypoints.iter().map(|w| w[a]).collect();
+            let ends = [self.ends[0][a], self.ends[1][a]];
+            let c = solve_axis(&points, durations, ends).ok_or(MissionError::Solve { axis })?;
+            for (c, t) in c.iter().zip(durations) {
+                // ĉ = c Tʲ: the cost in normalised time, over T⁷.
+                let n: Vec<f64> = (0..COEFFS).map(|j| c[j] * t.powi(j as i32)).collect();
+                let mut q = 0.0;
+                for j in 4..COEFFS {
+                    for l in 4..COEFFS {
+                        q += n[j] * snap_gram(j, l) * n[l];
+                    }
+                }
+                cost += q / t.powi(7);
+            }
+        }
+        Ok(cost)
+    }
+
+    /// Descends the snap cost over the durations with their sum fixed,
+    /// from `start`: in softmax coordinates (so every duration stays
+    /// positive), along the normalised central-difference gradient, with a
+    /// step halved until the cost falls and doubled after it does; stops
+    /// when the relative gradient is below 1e-9 or no step helps.
+    fn allot(&self, start: Vec<f64>) -> Result<Vec<f64>, MissionError> {
+        let m = start.len();
+        if m < 2 {
+            return Ok(start);
+        }
+        let total: f64 = start.iter().sum();
+        let times = |z: &[f64]| -> Vec<f64> {
+            let top = z.iter().fold(f64::NEG_INFINITY, |a, b| a.max(*b));
+            let e: Vec<f64> = z.iter().map(|v| (v - top).exp()).collect();
+            let sum: f64 = e.iter().sum();
+            e.iter().map(|v| total * v / sum).collect()
+        };
+        let mut z: Vec<f64> = start.iter().map(|t| t.ln()).collect();
+        let mut cost = self.snap_cost(&times(&z))?;
+        let (h, mut step) = (1e-6, 0.1);
+        for _ in 0..500 {
+            let mut g = vec![0.0; m];
+            for i in 0..m {
+                z[i] += h;
+                let up = self.snap_cost(&times(&z))?;
+                z[i] -= 2.0 * h;
+                let down = self.snap_cost(&times(&z))?;
+                z[i] += h;
+                g[i] = (up - down) / (2.0 * h * cost);
+            }
+            let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if norm < 1e-9 {
+                break;
+            }
+            loop {
+                let trial: Vec<f64> = z.iter().zip(&g).map(|(z, g)| z - step * g / norm).collect();
+                let c = self.snap_cost(&times(&trial))?;
+                if c < cost {
+                    (z, cost, step) = (trial, c, (2.0 * step).min(1.0));
+                    break;
+                }
+                step *= 0.5;
+                if step < 1e-12 {
+                    return Ok(times(&z));
+                }
+            }
+        }
+        Ok(times(&z))
     }
 
     /// The minimum-snap trajectory.
@@ -185,6 +263,27 @@ impl MinSnap {
             .collect();
         Trajectory::new(pieces)
     }
+}
+
+/// Each segment's length, m; an error for two waypoints at one place,
+/// whose segment cannot be timed by its length.
+fn lengths(w: &[[f64; 3]]) -> Result<Vec<f64>, MissionError> {
+    let extent = w.iter().flatten().fold(1.0f64, |m, c| m.max(c.abs()));
+    let mut out = Vec::with_capacity(w.len() - 1);
+    for (i, s) in w.windows(2).enumerate() {
+        let d = dist(s[0], s[1]);
+        // Below this the segment's polynomial cannot be told from a
+        // point: its coefficients scale as 1/T⁷.
+        if d <= 1e-9 * extent {
+            let expected = format!(
+                "apart from waypoint {i} to time a segment by its length \
+                 (give times, or drop one of the two)"
+            );
+            return Err(input(format!("waypoints[{}] distance", i + 1), d, expected));
+        }
+        out.push(d);
+    }
+    Ok(out)
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
