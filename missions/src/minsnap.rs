@@ -165,11 +165,8 @@ impl MinSnap {
     /// [`Timing::Budget`] minimises, and a way to compare allocations.
     pub fn snap_cost(&self, durations: &[f64]) -> Result<f64, MissionError> {
         let mut cost = 0.0;
-        for (a, axis) in ["x", "y", "z"].into_iter().enumerate() {
-            let points: Vec<f64> = self.waypoints.iter().map(|w| w[a]).collect();
-            let ends = [self.ends[0][a], self.ends[1][a]];
-            let c = solve_axis(&points, durations, ends).ok_or(MissionError::Solve { axis })?;
-            for (c, t) in c.iter().zip(durations) {
+        for a in 0..3 {
+            for (c, t) in self.solve_axis(a, durations)?.iter().zip(durations) {
                 // ĉ = c Tʲ: the cost in normalised time, over T⁷.
                 let n: Vec<f64> = (0..COEFFS).map(|j| c[j] * t.powi(j as i32)).collect();
                 let mut q = 0.0;
@@ -237,22 +234,9 @@ impl MinSnap {
     /// The minimum-snap trajectory.
     pub fn solve(&self) -> Result<Trajectory, MissionError> {
         let durations = self.durations()?;
-        let yaw = self
-            .yaw
-            .clone()
-            .unwrap_or_else(|| vec![0.0; self.waypoints.len()]);
-        let mut axes = Vec::with_capacity(4);
-        for (a, name) in ["x", "y", "z", "yaw"].into_iter().enumerate() {
-            let (points, ends): (Vec<f64>, [f64; 2]) = if a < 3 {
-                let p = self.waypoints.iter().map(|w| w[a]).collect();
-                (p, [self.ends[0][a], self.ends[1][a]])
-            } else {
-                (yaw.clone(), [0.0, 0.0])
-            };
-            axes.push(
-                solve_axis(&points, &durations, ends).ok_or(MissionError::Solve { axis: name })?,
-            );
-        }
+        let axes = (0..4)
+            .map(|a| self.solve_axis(a, &durations))
+            .collect::<Result<Vec<_>, _>>()?;
         let pieces = durations
             .iter()
             .enumerate()
@@ -284,6 +268,23 @@ fn lengths(w: &[[f64; 3]]) -> Result<Vec<f64>, MissionError> {
         out.push(d);
     }
     Ok(out)
+}
+
+impl MinSnap {
+    /// Axis `a` (0 x, 1 y, 2 z, 3 yaw) solved on `durations`: its points
+    /// and end velocities (the yaw's at rest; 0 throughout without yaw).
+    fn solve_axis(&self, a: usize, durations: &[f64]) -> Result<Vec<[f64; COEFFS]>, MissionError> {
+        let (points, ends): (Vec<f64>, [f64; 2]) = match (a, &self.yaw) {
+            (3, Some(yaw)) => (yaw.clone(), [0.0; 2]),
+            (3, None) => (vec![0.0; self.waypoints.len()], [0.0; 2]),
+            _ => (
+                self.waypoints.iter().map(|w| w[a]).collect(),
+                [self.ends[0][a], self.ends[1][a]],
+            ),
+        };
+        let axis = ["x", "y", "z", "yaw"][a];
+        solve_axis(&points, durations, ends).ok_or(MissionError::Solve { axis })
+    }
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -233,11 +233,13 @@ impl<'a, B: Backend> Sensing<'a, B> {
                     alpha: r.omega_dot,
                 };
                 let m = imu.sample(k, &kin, g).map_err(sensor_error)?;
-                if self.keep {
-                    self.latest.accel = Some(lie::ops::vec3_f64::<B>(m.accel));
-                    self.latest.gyro = Some(lie::ops::vec3_f64::<B>(m.gyro));
-                    self.log.push(MeasurementRecord::imu::<B>(&m));
-                }
+                self.note(
+                    |r| {
+                        r.accel = Some(lie::ops::vec3_f64::<B>(m.accel));
+                        r.gyro = Some(lie::ops::vec3_f64::<B>(m.gyro));
+                    },
+                    || MeasurementRecord::imu::<B>(&m),
+                );
                 self.push(IMU, tk, Measurement::Imu(m));
             }
             MOCAP => {
@@ -246,11 +248,10 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let latency = mocap.spec().latency;
                 if let Some(m) = mocap.frame::<B>(k, b.x, b.v, b.r, b.omega) {
-                    if self.keep {
-                        self.latest.mocap_x = Some(lie::ops::vec3_f64::<B>(m.x));
-                        self.log
-                            .push(MeasurementRecord::mocap::<B>(&m, tk + latency));
-                    }
+                    self.note(
+                        |r| r.mocap_x = Some(lie::ops::vec3_f64::<B>(m.x)),
+                        || MeasurementRecord::mocap::<B>(&m, tk + latency),
+                    );
                     self.push(MOCAP, tk + latency, Measurement::Mocap(m));
                 }
             }
@@ -260,10 +261,10 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let delay = gps.spec().delay;
                 let m = gps.fix::<B>(k, b.x, b.v);
-                if self.keep {
-                    self.latest.gps_x = Some(lie::ops::vec3_f64::<B>(m.x));
-                    self.log.push(MeasurementRecord::gps::<B>(&m, tk + delay));
-                }
+                self.note(
+                    |r| r.gps_x = Some(lie::ops::vec3_f64::<B>(m.x)),
+                    || MeasurementRecord::gps::<B>(&m, tk + delay),
+                );
                 self.push(GPS, tk + delay, Measurement::Gps(m));
             }
             _ => {
@@ -272,17 +273,31 @@ impl<'a, B: Backend> Sensing<'a, B> {
                 };
                 let height = -B::vec3_to_array(b.x)[2].to_f64_lossless();
                 let m = baro.sample(k, height).map_err(sensor_error)?;
-                if self.keep {
-                    self.latest.baro = Some(m.height);
-                    self.log.push(MeasurementRecord::Baro {
+                self.note(
+                    |r| r.baro = Some(m.height),
+                    || MeasurementRecord::Baro {
                         t: m.t,
                         height: m.height,
-                    });
-                }
+                    },
+                );
                 self.push(BARO, tk, Measurement::Baro(m));
             }
         }
         Ok(())
+    }
+
+    /// A measurement's readout into `latest` and its log record, made only
+    /// when the run keeps them.
+    #[inline]
+    fn note(
+        &mut self,
+        read: impl FnOnce(&mut Readout),
+        record: impl FnOnce() -> MeasurementRecord,
+    ) {
+        if self.keep {
+            read(&mut self.latest);
+            self.log.push(record());
+        }
     }
 
     /// Starts the estimator from the true state `y` at `t = 0`.
