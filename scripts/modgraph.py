@@ -39,11 +39,11 @@ CRATES = ["lie", "dynamics", "controllers", "integrators", "sensors", "missions"
 LAYERS = {
     "scenes": [
         ("format", ["error", "scene", "reference"]),
-        ("scenes", ["builtin", "overrides", "registry", "scene_simulation", "run_report"]),
+        ("scenes", ["builtin", "overrides", "registry", "scene_simulation", "run_report", "sources"]),
     ],
     "studies": [
         ("metrics", ["metrics"]),
-        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity", "sensing"]),
+        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity", "sensing", "missions"]),
         ("figures", ["figures"]),
     ],
 }

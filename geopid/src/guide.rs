@@ -46,4 +46,5 @@ pub mod flying_on_sensors {
 }
 pub mod missions {
     #![doc = include_str!("../guide/15-missions.md")]
+    #![doc = include_str!("../guide/figures/missions.md")]
 }

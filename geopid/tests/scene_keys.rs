@@ -97,6 +97,18 @@ fn variants() -> Vec<Scene> {
             radius: 1.0,
             omega: 1.0,
         },
+        PositionRef::MinSnap {
+            waypoints: vec![[0.0; 3], [1.0, 0.0, 0.0]],
+            yaw: Some(vec![0.0, 1.0]),
+            times: Some(vec![0.0, 2.0]),
+            mean_speed: Some(1.0),
+            time_budget: Some(2.0),
+            start: 1.0,
+        },
+        PositionRef::TrajectoryFile {
+            path: "trajectory.csv".into(),
+            start: 1.0,
+        },
     ];
     let attitudes = [
         AttitudeRef::PaperFlip {},

@@ -40,16 +40,7 @@ fn a_crazyflie_file_is_its_polynomials() {
         "/tests/data/three_pieces.csv"
     ))
     .unwrap();
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip(1)
-        .map(|l| {
-            l.trim_end_matches(',')
-                .split(',')
-                .map(|c| c.parse().unwrap())
-                .collect()
-        })
-        .collect();
+    let rows = testkit::pptraj_rows(&text);
     assert_eq!(rows.len(), 3);
     let traj = pptraj::read(&text).unwrap();
     let total: f64 = rows.iter().map(|r| r[0]).sum();
@@ -57,23 +48,13 @@ fn a_crazyflie_file_is_its_polynomials() {
     let mut worst = 0.0f64;
     for k in 0..1000 {
         let t = total * k as f64 / 999.0;
-        let (mut start, mut i) = (0.0, 0);
-        while i + 1 < rows.len() && t >= start + rows[i][0] {
-            start += rows[i][0];
-            i += 1;
-        }
-        let tau = t - start;
-        let poly = |a: usize| -> f64 {
-            (0..8)
-                .map(|j| rows[i][1 + 8 * a + j] * tau.powi(j as i32))
-                .sum()
-        };
+        let [px, py, pz, pyaw] = testkit::pptraj_eval(&rows, t);
         let f = traj.flat(t);
-        let want = [poly(0), -poly(1), -poly(2)];
+        let want = [px, -py, -pz];
         for (got, want) in f.x[0].iter().zip(want) {
             worst = testkit::nan_max(worst, (got - want).abs());
         }
-        worst = testkit::nan_max(worst, (f.yaw[0] + poly(3)).abs());
+        worst = testkit::nan_max(worst, (f.yaw[0] + pyaw).abs());
     }
     println!("three-piece file: largest difference from its polynomials {worst:.1e}");
     assert!(worst < 1e-12, "{worst}");

@@ -183,6 +183,36 @@ pub fn figure_eight() -> Scene {
     s
 }
 
+/// A climbing square: a minimum-snap trajectory through five waypoints at
+/// a mean 1 m/s, 1 m higher at the end, the heading turning a full circle
+/// with the legs, under the paper's disturbances, from rest at the first
+/// waypoint.
+pub fn waypoints_square_climb() -> Scene {
+    let mut s = base(
+        "waypoints-square-climb",
+        "A minimum-snap trajectory through a climbing 2 m square, the heading turning with the legs, under Δ_x, Δ_R.",
+        11.0,
+    );
+    s.disturbance = Some(DisturbanceSpec::paper());
+    s.initial.x = [0.0, 0.0, -1.0];
+    s.plan = position_plan(PositionRef::MinSnap {
+        waypoints: vec![
+            [0.0, 0.0, -1.0],
+            [2.0, 0.0, -1.25],
+            [2.0, 2.0, -1.5],
+            [0.0, 2.0, -1.75],
+            [0.0, 0.0, -2.0],
+        ],
+        yaw: Some(vec![0.0, 0.5 * PI, PI, 1.5 * PI, 2.0 * PI]),
+        times: None,
+        mean_speed: Some(1.0),
+        time_budget: None,
+        start: 0.0,
+    });
+    s.record.sample = 0.01;
+    s
+}
+
 /// DiffTune's quadrotor tuning problem (Cheng et al., T-RO 2024, and its
 /// open code): a 4.34 kg vehicle, J = diag(0.0820, 0.0845, 0.1377) kg m²,
 /// from rest at the origin (Ω(0) = 0.001 e3 rad/s) on the circle
@@ -325,6 +355,7 @@ pub fn all() -> Vec<Scene> {
         gusty_hover(),
         figure_eight_wind(),
         difftune_circle(),
+        waypoints_square_climb(),
     ]
 }
 

@@ -43,16 +43,18 @@ mod registry;
 mod run_report;
 pub mod scene;
 mod scene_simulation;
+mod sources;
 
 pub use error::{BuildError, Error};
 pub use overrides::Overrides;
 pub use registry::{
-    FactoryError, PARAMETERS, PositionFn, Registry, SceneAttitude, ScenePosition, VehicleFactory,
-    build_vehicle, parameter_mut, plan,
+    FactoryError, PARAMETERS, PositionFn, Registry, VehicleFactory, build_vehicle, parameter_mut,
+    plan,
 };
 pub use run_report::RunReport;
 pub use scene::{Scene, SceneError};
 pub use scene_simulation::{SceneSimulation, StateF64};
+pub use sources::{SceneAttitude, ScenePosition};
 
 #[doc(hidden)]
 pub use registry::{Seeds, builder_from, controller_gains, controller_params, gains};

@@ -1,7 +1,11 @@
 //! Reference generators with their analytic derivatives.
 
-use controllers::{AttitudeReference, PositionReference};
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use controllers::{AttitudeReference, PositionReference, PositionSource};
 use lie::{Backend, Real, S, So3Mat, V3};
+use missions::Trajectory;
 
 use crate::scene::{AttitudeRef, PositionRef};
 
@@ -104,9 +108,60 @@ pub fn attitude<B: Backend>(r: &AttitudeRef, t: S<B>) -> AttitudeReference<B, So
     }
 }
 
+/// A planned trajectory and the time it starts, s.
+pub type Planned = Rc<(Trajectory, f64)>;
+
+thread_local! {
+    /// The planned references this thread evaluated last, with their
+    /// trajectories: planning solves a linear system or reads a file, too
+    /// much to repeat per evaluation.
+    static PLANNED: RefCell<Vec<(PositionRef, Planned)>> =
+        const { RefCell::new(Vec::new()) };
+}
+
+/// The trajectory and start time of a planned reference (`minsnap`,
+/// `trajectory-file`), planned once per thread; `None` for the curves.
+///
+/// # Panics
+/// If [`PositionRef::plan`] refuses `p`: a scene's references are
+/// validated when it is read, and every run validates again.
+pub fn planned(p: &PositionRef) -> Option<Planned> {
+    if !matches!(
+        p,
+        PositionRef::MinSnap { .. } | PositionRef::TrajectoryFile { .. }
+    ) {
+        return None;
+    }
+    PLANNED.with(|cache| {
+        let mut cache = cache.borrow_mut();
+        if let Some((_, t)) = cache.iter().find(|(q, _)| q == p) {
+            return Some(t.clone());
+        }
+        let t = match p.plan() {
+            Ok(Some(t)) => Rc::new(t),
+            Ok(None) => unreachable!("a minsnap or trajectory-file reference plans"),
+            Err(e) => panic!("position reference not validated: {e}"),
+        };
+        if cache.len() >= 8 {
+            cache.remove(0);
+        }
+        cache.push((p.clone(), t.clone()));
+        Some(t)
+    })
+}
+
 /// `(x_d, ẋ_d, ẍ_d, x_d⁽³⁾, x_d⁽⁴⁾, b1d)` at time `t`, in f64.
+///
+/// # Panics
+/// For a planned reference that does not validate (see [`planned`]).
 pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
     match p {
+        PositionRef::MinSnap { .. } | PositionRef::TrajectoryFile { .. } => {
+            let plan = planned(p).expect("a planned reference");
+            let f = plan.0.flat(t - plan.1);
+            let (s, c) = f.yaw[0].sin_cos();
+            (f.x, [c, s, 0.0])
+        }
         PositionRef::Hold { x, b1d } => {
             let n = (b1d[0] * b1d[0] + b1d[1] * b1d[1] + b1d[2] * b1d[2]).sqrt();
             (
@@ -170,8 +225,12 @@ pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
     }
 }
 
-/// The position reference in backend types.
+/// The position reference in backend types (a planned one with the
+/// heading's derivatives from its yaw).
 pub fn position<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
+    if let Some(plan) = planned(p) {
+        return plan.0.position(t - S::<B>::lit(plan.1));
+    }
     let (d, b1) = position_f64(p, t.to_f64_lossless());
     let mut r = PositionReference::<B>::hold(v::<B>(d[0]), v::<B>(b1));
     r.v = v::<B>(d[1]);

@@ -8,9 +8,8 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use controllers::{
-    AccelerationModel, AttitudeGains, AttitudeMode, AttitudeReference, AttitudeSource,
-    AttitudeThrust, Mode, PositionGains, PositionMode, PositionReference, PositionSource,
-    RigidBodyParams,
+    AccelerationModel, AttitudeGains, AttitudeMode, AttitudeThrust, Mode, PositionGains,
+    PositionMode, PositionReference, RigidBodyParams,
 };
 use dynamics::{
     AttitudeStand, Disturbance, FreeRigidBody, Hexarotor, Multirotor, Quadrotor, Vehicle,
@@ -19,102 +18,10 @@ use integrators::{Stepper, StepperConfig};
 use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S, So3Mat, ops};
 
 use crate::reference::{self, m, v};
-use crate::scene::{
-    AccelModel, AttitudeRef, BackendKind, GainsSpec, PositionRef, Scalar, Scene, ThrustSpec,
-    VehicleKind,
-};
+use crate::scene::{AccelModel, BackendKind, GainsSpec, Scalar, Scene, ThrustSpec, VehicleKind};
+use crate::sources::{SceneAttitude, ScenePosition};
 use crate::{Error, SceneError, builtin};
 use scenarios::{RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until};
-
-/// A scene's attitude reference as an [`AttitudeSource`](controllers::AttitudeSource): a constant one is
-/// computed once, the others are evaluated (in f64) per call.
-pub enum SceneAttitude<B: Backend> {
-    /// A constant reference.
-    Const(AttitudeReference<B, So3Mat<B>>),
-    /// A generator of [`crate::reference`].
-    Generated(AttitudeRef),
-}
-
-impl<B: Backend> SceneAttitude<B> {
-    /// The source for `r`.
-    pub fn new(r: &AttitudeRef) -> Self {
-        match r {
-            AttitudeRef::Hold { rotation } => SceneAttitude::Const(AttitudeReference {
-                rd: m::<B>(reference::rotation_f64(*rotation)),
-                omega_d: ops::zero::<B>(),
-                omega_d_dot: ops::zero::<B>(),
-            }),
-            other => SceneAttitude::Generated(other.clone()),
-        }
-    }
-}
-
-impl<B: Backend> AttitudeSource<B> for SceneAttitude<B> {
-    #[inline]
-    fn attitude(&self, t: S<B>) -> AttitudeReference<B, So3Mat<B>> {
-        match self {
-            SceneAttitude::Const(r) => *r,
-            SceneAttitude::Generated(a) => reference::attitude::<B>(a, t),
-        }
-    }
-}
-
-/// A scene's position reference as a [`PositionSource`](controllers::PositionSource): a hold is
-/// converted once, a generator evaluated (in f64) per call; logs read
-/// `x_d` in f64 either way.
-pub enum ScenePosition<B: Backend> {
-    /// A constant reference, with its f64 position for the logs.
-    Const(PositionReference<B>, [f64; 3]),
-    /// A generator of [`crate::reference`].
-    Generated(PositionRef),
-}
-
-impl<B: Backend> ScenePosition<B> {
-    /// The source for `p`.
-    pub fn new(p: &PositionRef) -> Self {
-        match p {
-            PositionRef::Hold { .. } => {
-                ScenePosition::Const(reference::position::<B>(p, S::<B>::lit(0.0)), {
-                    reference::position_f64(p, 0.0).0[0]
-                })
-            }
-            other => ScenePosition::Generated(other.clone()),
-        }
-    }
-}
-
-impl<B: Backend> PositionSource<B> for ScenePosition<B> {
-    #[inline]
-    fn position(&self, t: S<B>) -> PositionReference<B> {
-        match self {
-            ScenePosition::Const(r, _) => *r,
-            ScenePosition::Generated(p) => reference::position::<B>(p, t),
-        }
-    }
-    #[inline]
-    fn constant(&self) -> Option<&PositionReference<B>> {
-        match self {
-            ScenePosition::Const(r, _) => Some(r),
-            ScenePosition::Generated(_) => None,
-        }
-    }
-    fn position_f64(&self, t: f64) -> [f64; 3] {
-        match self {
-            ScenePosition::Const(_, x) => *x,
-            ScenePosition::Generated(p) => reference::position_f64(p, t).0[0],
-        }
-    }
-}
-
-impl<B: Backend> PositionSource<B> for PositionRef {
-    #[inline]
-    fn position(&self, t: S<B>) -> PositionReference<B> {
-        reference::position::<B>(self, t)
-    }
-    fn position_f64(&self, t: f64) -> [f64; 3] {
-        reference::position_f64(self, t).0[0]
-    }
-}
 
 /// Builds a program's own vehicle kind from a scene, on any backend.
 ///

@@ -7,6 +7,7 @@
 //! | [`gains`] | the conditions of Propositions 2 and 3 for a scene's gains, and a search for gains that meet them |
 //! | [`montecarlo`] | many runs from random initial conditions, classified, with statistics and confidence bounds |
 //! | [`sensing`] | flying on measurements: RMS error against the motion capture's latency and the sensors' noise |
+//! | [`missions`] | planned flights: the exact Ω_c, Ω̇_c against differences of the commanded attitude |
 //! | [`sensitivity`] | exact derivatives of a whole run with respect to a scene's numbers, and gain tuning on them |
 //! | [`regress`] | the regression suite: every built-in scene against independently computed expectations |
 //! | [`stress`] | the numerical stress suite: long horizons, non-finite loads, rates, precision |
@@ -28,6 +29,7 @@
 pub mod figures;
 pub mod gains;
 pub mod metrics;
+pub mod missions;
 pub mod montecarlo;
 pub mod regress;
 pub mod sensing;

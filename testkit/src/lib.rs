@@ -82,6 +82,37 @@ pub fn rotorpy_golden(dir: &std::path::Path, name: &str) -> (String, bool) {
     (text, false)
 }
 
+/// The pieces of a Crazyflie `pptraj` CSV, parsed here independently of
+/// the reader under test: one row of 33 numbers (duration, then x, y, z
+/// and yaw coefficients in ascending powers) per piece.
+pub fn pptraj_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            l.trim_end_matches(',')
+                .split(',')
+                .map(|c| c.parse().expect("a number"))
+                .collect()
+        })
+        .collect()
+}
+
+/// `[x, y, z, yaw]` of `rows` (from [`pptraj_rows`]) at `t`, in the file's
+/// own z-up frame, by summing the powers of each piece's local time.
+pub fn pptraj_eval(rows: &[Vec<f64>], t: f64) -> [f64; 4] {
+    let (mut start, mut i) = (0.0, 0);
+    while i + 1 < rows.len() && t >= start + rows[i][0] {
+        start += rows[i][0];
+        i += 1;
+    }
+    let tau = t - start;
+    std::array::from_fn(|a| {
+        (0..8)
+            .map(|j| rows[i][1 + 8 * a + j] * tau.powi(j as i32))
+            .sum()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::nan_max;

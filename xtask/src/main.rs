@@ -27,6 +27,7 @@
 
 mod bench;
 mod conservation;
+mod missions;
 mod regress;
 mod sensing;
 mod stress;
@@ -66,6 +67,9 @@ enum Cmd {
     /// capture's latency and the sensors' noise, hover and figure eight
     /// (--quick: 4 seeds, 5 s runs).
     Sensing(sensing::SensingArgs),
+    /// What the exact Ω_c, Ω̇_c buy: the climbing square flown with them
+    /// and with differences of the commanded attitude.
+    Missions(missions::MissionsArgs),
     /// Table of the last `cargo bench -p geopid-lie` run: generic vs hand-written.
     BenchTable,
     /// Build `lie` in every feature combination.
@@ -94,6 +98,7 @@ fn main() -> ExitCode {
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Bench(a) => bench::bench(a),
         Cmd::Sensing(a) => sensing::sensing(a),
+        Cmd::Missions(a) => missions::missions(a),
         Cmd::BenchTable => bench_table(),
         Cmd::Features => features(),
         Cmd::Conservation { steps } => conservation::conservation(steps),

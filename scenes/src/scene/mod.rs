@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 mod control;
 mod format;
 mod locate;
+mod references;
 mod sensing;
 mod validate;
 mod wind;
@@ -16,6 +17,7 @@ mod wind;
 pub use crate::error::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
 use locate::{line_col, locate_error};
+pub use references::{AttitudeRef, PositionRef};
 pub use sensing::{EstimatorKind, EstimatorSpec, SensorsSpec};
 pub use wind::WindSpec;
 
@@ -503,79 +505,6 @@ pub enum ThrustSpec {
     PdProjection,
 }
 
-/// Attitude references.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum AttitudeRef {
-    /// The paper's flip: R_d(t) = exp(π t e3^) exp(4π t e2^). A struct
-    /// variant with no fields, not a unit variant, so that an unknown key
-    /// beside `kind` is rejected (serde lets a unit variant of a tagged
-    /// enum ignore extra keys).
-    PaperFlip {},
-    /// The paper's experiment: 3-2-1 Euler angles φ = a sin(ωt),
-    /// θ = a cos(ωt), ψ = 0, R_d = R_y(θ) R_x(φ).
-    EulerExperiment {
-        /// Amplitude a, rad (paper: π/9).
-        amplitude: f64,
-        /// ω, rad/s (paper: π).
-        frequency: f64,
-    },
-    /// A fixed attitude, as a rotation vector.
-    Hold {
-        /// Rotation vector, rad.
-        rotation: [f64; 3],
-    },
-}
-
-/// Position references.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum PositionRef {
-    /// Hold x_d with heading b1d.
-    Hold {
-        /// x_d, m.
-        x: [f64; 3],
-        /// b1d (normalised internally).
-        b1d: [f64; 3],
-    },
-    /// Lissajous figure eight x_d = c + (a sin ωt, b sin 2ωt, 0), b1d = e1.
-    FigureEight {
-        /// Centre, m.
-        center: [f64; 3],
-        /// Half-width along e1, m.
-        a: f64,
-        /// Half-height along e2, m.
-        b: f64,
-        /// ω, rad/s.
-        omega: f64,
-    },
-    /// A sinusoid on each axis, x_d,i = c_i + A_i sin(ω_i t + φ_i), b1d =
-    /// e1: ellipses, circles in any plane and with any start point, and
-    /// Lissajous curves (DiffTune's circle `(2(1 − cos t), 2 sin t,
-    /// 0.1 sin t)` is A = (2, 2, 0.1), ω = (1, 1, 1), φ = (−π/2, 0, 0),
-    /// c = (2, 0, 0)).
-    Sinusoids {
-        /// c, m.
-        center: [f64; 3],
-        /// A per axis, m.
-        amplitude: [f64; 3],
-        /// ω per axis, rad/s.
-        omega: [f64; 3],
-        /// φ per axis, rad.
-        phase: [f64; 3],
-    },
-    /// Circle x_d = c + r (cos ωt, sin ωt, 0), b1d = e1; ω < 0 turns the
-    /// other way (RotorPy's z-up circle seen with e3 down).
-    Circle {
-        /// Centre, m.
-        center: [f64; 3],
-        /// Radius, m.
-        radius: f64,
-        /// ω, rad/s.
-        omega: f64,
-    },
-}
-
 /// Integrator choice.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -664,7 +593,7 @@ impl Scene {
         origin: &str,
         custom_kinds: &[&str],
     ) -> Result<Self, SceneError> {
-        let scene: Scene = toml::from_str(text).map_err(|e| {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| {
             let location = e.span().map(|sp| {
                 let (line, col) = line_col(text, sp.start);
                 format!("{origin}:{line}:{col}")
@@ -675,6 +604,15 @@ impl Scene {
                 key: None,
             }
         })?;
+        if origin.ends_with(".toml")
+            && let Some(dir) = std::path::Path::new(origin).parent()
+        {
+            for seg in &mut scene.plan {
+                if let Some(p) = &mut seg.position {
+                    p.resolve_path(dir);
+                }
+            }
+        }
         scene
             .validate()
             .and_then(|()| scene.check_kind(custom_kinds))

@@ -402,6 +402,13 @@ fn validate_references(k: usize, seg: &SegmentSpec) -> Result<(), (&'static str,
             num("radius", *radius)?;
             num("omega", *omega)?;
         }
+        Some(
+            p @ (PositionRef::MinSnap { start, .. } | PositionRef::TrajectoryFile { start, .. }),
+        ) => {
+            num("start", *start)?;
+            p.plan()
+                .map_err(|e| (e.key(), format!("plan[{k}] position: {e}")))?;
+        }
         None => {}
     }
     Ok(())
