@@ -43,6 +43,7 @@ __all__ = [
     "gradient",
     "instruction_set",
     "load_scene",
+    "minsnap",
     "montecarlo",
     "position_control",
     "run",
@@ -464,6 +465,49 @@ def gradient(
     """
     value, g = _geopid.gradient(load_scene(scene), [str(p) for p in params], every)
     return value, g
+
+
+def minsnap(
+    points: Sequence[Sequence[float]],
+    *,
+    yaw: Optional[Sequence[float]] = None,
+    times: Optional[Sequence[float]] = None,
+    mean_speed: Optional[float] = None,
+    time_budget: Optional[float] = None,
+    start_velocity: Optional[Sequence[float]] = None,
+    end_velocity: Optional[Sequence[float]] = None,
+    sample: Optional[Sequence[float]] = None,
+) -> Dict[str, Any]:
+    """The minimum-snap trajectory through ``points`` (m, e3 down; at
+    least two): degree-7 pieces, the position at each point, velocity to
+    snap continuous between pieces, at rest at both ends unless
+    ``start_velocity`` / ``end_velocity`` (m/s) say otherwise, and a yaw
+    trajectory of its own through ``yaw`` (rad, one per point).
+
+    The timing is at most one of ``times`` (s at each point, 0 first),
+    ``mean_speed`` (each segment's length over it, m/s; RotorPy's rule,
+    1 m/s when none is given) and ``time_budget`` (a total, s, shared out
+    to minimise the snap cost).
+
+    Returns a dict: ``durations`` (n,), ``coefficients`` (n, 4, 8: x, y,
+    z, yaw in ascending powers of each piece's local time), ``pptraj``
+    (the pieces as a Crazyflie trajectory file, z up) and, with
+    ``sample`` (times, s), ``x`` (m, 5, 3: the position and its first four
+    derivatives) and ``yaw`` (m, 3: yaw and its two derivatives). Bad
+    input raises ``ValueError`` whose ``field`` names it (``"times[2]"``,
+    ``"waypoints[1].y"``).
+    """
+    as_list = lambda v: None if v is None else [float(c) for c in v]
+    return _geopid.minsnap(
+        [[float(c) for c in p] for p in points],
+        as_list(yaw),
+        as_list(times),
+        None if mean_speed is None else float(mean_speed),
+        None if time_budget is None else float(time_budget),
+        as_list(start_velocity),
+        as_list(end_velocity),
+        as_list(sample),
+    )
 
 
 def tune(

@@ -124,5 +124,17 @@ def tune(
 ) -> Dict[str, Any]:
     """k_x, k_v, k_R, k_Omega tuned on the exact gradient of the tracking cost."""
 
+def minsnap(
+    points: Sequence[Sequence[float]],
+    yaw: Optional[Sequence[float]] = None,
+    times: Optional[Sequence[float]] = None,
+    mean_speed: Optional[float] = None,
+    time_budget: Optional[float] = None,
+    start_velocity: Optional[Sequence[float]] = None,
+    end_velocity: Optional[Sequence[float]] = None,
+    sample: Optional[Sequence[float]] = None,
+) -> Dict[str, Any]:
+    """A minimum-snap trajectory through waypoints, as its pieces."""
+
 def instruction_set() -> str: ...
 def cpu_has_x86_64_v3() -> bool: ...

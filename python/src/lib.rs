@@ -10,6 +10,7 @@ use scenes::{Error as RsError, SceneError as RsSceneError};
 
 mod arrays;
 mod control;
+mod missions;
 mod reference;
 mod result;
 mod scene;
@@ -141,6 +142,7 @@ fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::montecarlo_header, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::gradient, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::tune, m)?)?;
+    m.add_function(wrap_pyfunction!(missions::minsnap, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

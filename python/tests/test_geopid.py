@@ -693,3 +693,42 @@ def test_loop_rates_fly_the_crazyflie_stabilizer_and_a_bad_name_is_refused():
     with pytest.raises(geopid.SceneError) as e:
         geopid.run("figure-eight", loop_rates="px4")
     assert e.value.key == "control.loop_rates" and "px4" in str(e.value)
+
+
+def test_minsnap_returns_its_pieces_and_names_bad_input():
+    square = [[0, 0, -1], [1, 0, -1], [1, 1, -1.5], [0, 1, -1]]
+    # Inside the 6.47 s it lasts: after its end it holds the last point,
+    # where the snap (free at the ends) drops to zero.
+    t = np.linspace(0.0, 6.4, 3201)
+    out = geopid.minsnap(square, yaw=[0, 1, 2, 3], mean_speed=0.5, sample=t)
+    lengths = np.linalg.norm(np.diff(np.array(square, float), axis=0), axis=1)
+    # RotorPy's timing: each segment's length over the mean speed.
+    np.testing.assert_allclose(out["durations"], lengths / 0.5, rtol=1e-15)
+    assert out["coefficients"].shape == (3, 4, 8)
+    # Through the points at the piece boundaries; at the end v, a and jerk
+    # are zero (the snap is free there).
+    ends = np.concatenate([[0.0], np.cumsum(out["durations"])])
+    again = geopid.minsnap(square, yaw=[0, 1, 2, 3], mean_speed=0.5, sample=ends)
+    np.testing.assert_allclose(again["x"][:, 0, :], square, atol=1e-12)
+    np.testing.assert_allclose(again["yaw"][:, 0], [0, 1, 2, 3], atol=1e-12)
+    assert np.abs(again["x"][-1, 1:4, :]).max() < 1e-12
+    # Each derivative is the slope of the one below it: central differences
+    # at h = 2 ms agree to O(h²) times the next derivatives' size (< 1e-3).
+    x = out["x"]
+    for d in range(4):
+        fd = np.gradient(x[:, d, :], t, axis=0)[1:-1]
+        assert np.abs(fd - x[1:-1, d + 1, :]).max() < 1e-3 * (1 + np.abs(x[:, d + 1]).max())
+    # The Crazyflie file: one row per piece, y, z and yaw negated (z up).
+    rows = np.array([[float(c) for c in line.rstrip(",").split(",")]
+                     for line in out["pptraj"].splitlines()[1:]])
+    np.testing.assert_array_equal(rows[:, 0], out["durations"])
+    sign = np.array([1, -1, -1, -1])[None, :, None]
+    np.testing.assert_array_equal(rows[:, 1:].reshape(3, 4, 8), sign * out["coefficients"])
+    with pytest.raises(ValueError) as e:
+        geopid.minsnap([[0, 0, 0], [1, float("nan"), 0]])
+    assert e.value.field == "waypoints[1].y"
+    with pytest.raises(ValueError) as e:
+        geopid.minsnap(square, times=[0, 1, 1, 2])
+    assert e.value.field == "times[2]"
+    with pytest.raises(ValueError, match="at most one"):
+        geopid.minsnap(square, times=[0, 1, 2, 3], mean_speed=1.0)
