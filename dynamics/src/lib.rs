@@ -67,12 +67,14 @@ use lie::num_traits::Zero;
 use lie::{Backend, M3, Real, S, V3, ops};
 
 pub mod free_body;
+mod ground;
 pub mod multirotor;
 pub mod paper;
 mod vehicle;
 mod vehicles;
 pub mod wind;
 
+pub use ground::{Ground, OnGround};
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
 pub use vehicle::{
     Actuators, Capabilities, Command, ConfigurationMoment, LoadInput, Vehicle, body_loads, loads,

@@ -77,6 +77,9 @@ pub struct Capabilities<'a, B: Backend> {
     /// An attitude-dependent moment (gravity about a pivot) that a flight
     /// loop may compensate in its command.
     pub configuration_moment: Option<&'a dyn ConfigurationMoment<B>>,
+    /// Whether the loads include a stiff contact (the ground): a
+    /// simulation then refuses the steppers that cannot step it.
+    pub contact: bool,
 }
 
 impl<B: Backend> Capabilities<'_, B> {
@@ -86,6 +89,7 @@ impl<B: Backend> Capabilities<'_, B> {
         rate_dependent_loads: false,
         actuators: None,
         configuration_moment: None,
+        contact: false,
     };
 }
 

@@ -204,6 +204,19 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         if let Some(f) = self.initial.non_finite_field() {
             return Err(bad("initial", format!("`{f}` is not finite")));
         }
+        if self.vehicle.capabilities().contact {
+            let name = integrators::Integrator::<B, 0>::name(&self.stepper.for_slots::<0>());
+            if matches!(name, "euler" | "lgvi") {
+                return Err(bad(
+                    "integrator",
+                    format!(
+                        "`{name}` cannot step the ground contact (explicit Euler is unstable \
+                         on it, the LGVI's iteration on rate-dependent loads does not \
+                         converge): use rk4, rk4-projected, rkmk4 or dopri"
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 

@@ -1,0 +1,163 @@
+//! A vehicle on the ground: at rest it stays at its static equilibrium,
+//! dropped it settles there, and the steppers that cannot step the contact
+//! are refused by name.
+
+use dynamics::{Ground, OnGround, Quadrotor, RigidBodyState, Vehicle};
+use integrators::{IntegratorKind, Stepper, StepperConfig};
+use lie::NalgebraF64 as B;
+use scenarios::{SimError, Simulation};
+
+/// Four feet 0.2 m out along the arms' diagonals, 0.1 m below the centre
+/// of mass (+b3 is down).
+const FEET: [[f64; 3]; 4] = [
+    [0.2, 0.2, 0.1],
+    [0.2, -0.2, 0.1],
+    [-0.2, 0.2, 0.1],
+    [-0.2, -0.2, 0.1],
+];
+
+fn on_ground() -> OnGround<B, Quadrotor<B>> {
+    OnGround::new(Quadrotor::<B>::paper(), Ground::at(0.0), &FEET).unwrap()
+}
+
+/// The resting depth in closed form: the four springs carry the weight,
+/// `4 k δ = m g`.
+fn resting_depth(v: &OnGround<B, Quadrotor<B>>) -> f64 {
+    v.mass() * v.gravity() / (4.0 * v.ground().stiffness)
+}
+
+fn start_at(z: f64) -> RigidBodyState<B> {
+    let mut s = RigidBodyState::<B>::at_rest();
+    s.x = B::vec3(0.0, 0.0, z);
+    s
+}
+
+fn fly(
+    kind: IntegratorKind,
+    start: RigidBodyState<B>,
+    duration: f64,
+    dt: f64,
+) -> Result<scenarios::RunOutput, SimError> {
+    Simulation::<B>::builder(Box::new(on_ground()))
+        .integrator(Stepper::<B>::new(kind, StepperConfig::default()))
+        .initial(start)
+        .dt(dt)
+        .duration(duration)
+        .record_every(1e-4)
+        .build()?
+        .run(Default::default())
+}
+
+#[test]
+fn a_vehicle_at_its_static_equilibrium_stays_there_for_10_s() {
+    let v = on_ground();
+    let z0 = v.ground().height - 0.1 + resting_depth(&v);
+    for kind in [IntegratorKind::Rk4, IntegratorKind::Dopri] {
+        let out = fly(kind, start_at(z0), 10.0, 1e-3).unwrap();
+        let worst = out
+            .samples
+            .iter()
+            .map(|s| (s.x[0].abs()).max(s.x[1].abs()).max((s.x[2] - z0).abs()))
+            .fold(0.0f64, f64::max);
+        // Rotors idle (no plan), the springs carry the weight: the loads
+        // cancel to rounding, so the state moves by rounding only.
+        assert!(worst < 1e-6, "{kind:?}: moved {worst:e} m");
+    }
+}
+
+#[test]
+fn a_dropped_vehicle_settles_at_the_resting_depth() {
+    let v = on_ground();
+    let depth = resting_depth(&v);
+    // Dropped from 1 cm: it touches down at √(2 g 0.01) ≈ 0.44 m/s.
+    let out = fly(IntegratorKind::Rk4, start_at(-0.1 - 0.01), 2.0, 1e-3).unwrap();
+    let deepest = out
+        .samples
+        .iter()
+        .map(|s| s.x[2] + 0.1)
+        .fold(f64::NEG_INFINITY, f64::max);
+    // Under 1 mm at a 0.44 m/s touchdown (the undamped bound v/ω is
+    // 0.61 mm for k = 1e5 N/m on four feet and 0.755 kg; the damper
+    // takes some off), checked every 0.1 ms.
+    assert!(deepest < 1e-3, "deepest {deepest:e} m");
+    let last = out.samples.last().unwrap();
+    // Settled: the damping (ζ ≈ 0.73) leaves nothing after 2 s but
+    // rounding; the depth is the closed form's.
+    assert!(
+        (last.x[2] + 0.1 - depth).abs() < 1e-9,
+        "{} against {depth}",
+        last.x[2] + 0.1
+    );
+    assert!(last.v.iter().all(|c| c.abs() < 1e-9), "{:?}", last.v);
+}
+
+/// While the feet are in, the contact is the linear oscillator
+/// `m δ̈ = m g − 4k δ − 4c δ̇` from `δ = 0`, `δ̇ = √(2 g h)` at
+/// `t₀ = √(2h/g)` (free fall, which RK4 steps exactly): its solution in
+/// closed form, against the flight at a 10 µs step.
+#[test]
+fn the_contact_is_the_linear_oscillator_while_the_feet_are_in() {
+    let v = on_ground();
+    let depth = resting_depth(&v);
+    let h = 0.01;
+    let out = fly(IntegratorKind::Rk4, start_at(-0.1 - h), 0.05, 1e-5).unwrap();
+    let (m, g) = (v.mass(), v.gravity());
+    let (k, c) = (4.0 * v.ground().stiffness, 4.0 * v.ground().damping);
+    let (w, zeta) = ((k / m).sqrt(), c / (2.0 * (k * m).sqrt()));
+    let wd = w * (1.0 - zeta * zeta).sqrt();
+    let (t0, v0) = ((2.0 * h / g).sqrt(), (2.0 * g * h).sqrt());
+    let (a, b) = (-depth, (v0 - zeta * w * depth) / wd);
+    let oscillator =
+        |t: f64| depth + (-zeta * w * t).exp() * (a * (wd * t).cos() + b * (wd * t).sin());
+    // Up to the deepest point (1.56 ms after touchdown): after it the
+    // damper lets go as the feet rise, and the model is no longer linear.
+    let (mut worst, mut peak) = (0.0f64, 0.0f64);
+    for s in out.samples.iter().filter(|s| s.t > t0 && s.t < t0 + 1.5e-3) {
+        let want = oscillator(s.t - t0);
+        worst = worst.max((s.x[2] + 0.1 - want).abs());
+        peak = peak.max(want);
+    }
+    println!("contact against the oscillator: {worst:e} m of {peak:e} m");
+    // The touchdown falls inside a step, where RK4's order is lost (the
+    // load has a kink there): at 10 µs that costs well under 1 % of the
+    // depth; measured 0.07 %. At 1 ms it is 2 %, at 0.5 ms 7 %:
+    // locating the touchdown as an event would restore the order.
+    assert!(worst < 0.01 * peak, "{worst} of {peak}");
+}
+
+#[test]
+fn steppers_that_cannot_step_the_contact_are_refused() {
+    for kind in [IntegratorKind::Euler, IntegratorKind::Lgvi] {
+        let e = fly(kind, start_at(-0.2), 1.0, 1e-3).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            matches!(
+                e,
+                SimError::Setting {
+                    field: "integrator",
+                    ..
+                }
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("ground contact") && text.contains("rk4"),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn bad_ground_numbers_name_the_field() {
+    let q = || Quadrotor::<B>::paper();
+    let mut g = Ground::at(0.0);
+    g.stiffness = -1.0;
+    let e = OnGround::new(q(), g, &FEET).err().unwrap();
+    assert!(e.to_string().contains("ground.stiffness"), "{e}");
+    let e = OnGround::new(q(), Ground::at(f64::NAN), &FEET)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("ground.height"), "{e}");
+    let e = OnGround::new(q(), Ground::at(0.0), &[]).err().unwrap();
+    assert!(e.to_string().contains("ground.feet"), "{e}");
+}
