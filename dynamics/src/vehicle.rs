@@ -296,3 +296,42 @@ pub fn loads<B: Backend, V: Vehicle<B> + ?Sized>(
             }
         })
 }
+
+/// A boxed vehicle is a vehicle (so that a wrapper such as
+/// [`OnGround`](crate::OnGround) takes one chosen at run time).
+impl<B: Backend> Vehicle<B> for Box<dyn Vehicle<B> + '_> {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+    fn mass(&self) -> S<B> {
+        (**self).mass()
+    }
+    fn inertia(&self) -> M3<B> {
+        (**self).inertia()
+    }
+    fn gravity(&self) -> S<B> {
+        (**self).gravity()
+    }
+    fn actuator_count(&self) -> usize {
+        (**self).actuator_count()
+    }
+    fn wrench_from_actuators(&self, u: &[S<B>]) -> Result<Wrench<B>, DynamicsError> {
+        (**self).wrench_from_actuators(u)
+    }
+    fn actuators_from_wrench(&self, w: &Wrench<B>, out: &mut [S<B>]) -> Result<(), DynamicsError> {
+        (**self).actuators_from_wrench(w, out)
+    }
+    #[inline]
+    fn loads(
+        &self,
+        t: S<B>,
+        state: &RigidBodyState<B>,
+        input: LoadInput<'_, B>,
+        rates: &mut [S<B>],
+    ) -> Option<Loads<B>> {
+        (**self).loads(t, state, input, rates)
+    }
+    fn capabilities(&self) -> Capabilities<'_, B> {
+        (**self).capabilities()
+    }
+}

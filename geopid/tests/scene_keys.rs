@@ -7,8 +7,8 @@
 
 use geopid::scenes::builtin;
 use geopid::scenes::scene::{
-    AttitudeRef, EstimatorKind, EstimatorSpec, MultirotorSpec, PositionRef, Preset, Scene,
-    SegmentSpec, SensorsSpec, ThrustSpec, WindSpec,
+    AttitudeRef, EstimatorKind, EstimatorSpec, GroundSpec, MultirotorSpec, PositionRef, Preset,
+    Scene, SegmentSpec, SensorsSpec, ThrustSpec, WindSpec,
 };
 
 const CHAPTER: &str = include_str!("../guide/02-scenes.md");
@@ -37,6 +37,10 @@ fn populated() -> Scene {
         rotor_directions: Some(vec![1.0]),
     });
     s.plan[0].until_psi = Some(0.1);
+    s.ground = Some(GroundSpec {
+        feet: vec![[0.0, 0.0, 0.1]],
+        ..GroundSpec::default()
+    });
     s.seed = 7;
     s.control.loop_rates = Some("crazyflie".into());
     s.sensors = Some(SensorsSpec {

@@ -16,6 +16,7 @@ fn base(name: &str, description: &str, duration: f64) -> Scene {
         vehicle: VehicleSpec::default(),
         disturbance: None,
         wind: None,
+        ground: None,
         initial: InitialSpec::default(),
         gains: GainsSpec::default(),
         plan: Vec::new(),

@@ -194,12 +194,14 @@ impl Registry {
                         |(k, m)| SceneError::at_key(k, m),
                     ))
                 })?;
-            return build(scene).map_err(|e| Error::CustomVehicle {
+            let vehicle = build(scene).map_err(|e| Error::CustomVehicle {
                 kind: name.clone(),
                 source: crate::BuildError::new(e),
-            });
+            })?;
+            return on_ground(scene, vehicle);
         }
-        build_vehicle_seeded::<B>(scene, seeds)
+        let vehicle = build_vehicle_seeded::<B>(scene, seeds)?;
+        on_ground(scene, vehicle)
     }
 
     /// Runs `scene` with its scalar and backend.
@@ -488,9 +490,23 @@ fn position_mode<B: Backend, P: controllers::PositionSource<B> + 'static>(
 }
 
 /// Builds the built-in vehicle of a scene (a [`VehicleKind::Custom`] kind
-/// needs a [`Registry`]).
+/// needs a [`Registry`]), on the scene's ground if it has one.
 pub fn build_vehicle<B: Backend>(scene: &Scene) -> Result<Box<dyn Vehicle<B>>, Error> {
-    build_vehicle_seeded(scene, Seeds::NONE)
+    on_ground(scene, build_vehicle_seeded(scene, Seeds::NONE)?)
+}
+
+/// `vehicle` over the scene's `[ground]`, if any.
+fn on_ground<B: Backend>(
+    scene: &Scene,
+    vehicle: Box<dyn Vehicle<B>>,
+) -> Result<Box<dyn Vehicle<B>>, Error> {
+    let Some(g) = &scene.ground else {
+        return Ok(vehicle);
+    };
+    let feet = g.feet(scene.vehicle.arm);
+    let v = dynamics::OnGround::new(vehicle, g.ground(), &feet)
+        .map_err(|e| Error::Run(SimError::Vehicle(e)))?;
+    Ok(Box::new(v))
 }
 
 /// [`build_vehicle`] with `seeds` (the mass, inertia, gravity, arm and

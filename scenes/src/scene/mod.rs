@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 mod control;
 mod format;
+mod ground;
 mod locate;
 mod references;
 mod sensing;
@@ -16,6 +17,7 @@ mod wind;
 
 pub use crate::error::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
+pub use ground::GroundSpec;
 use locate::{line_col, locate_error};
 pub use references::{AttitudeRef, PositionRef};
 pub use sensing::{EstimatorKind, EstimatorSpec, SensorsSpec};
@@ -61,6 +63,10 @@ pub struct Scene {
     /// `multirotor` kind) feel it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wind: Option<WindSpec>,
+    /// A flat ground under the vehicle; none when absent (the vehicle
+    /// may fly through any height).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground: Option<GroundSpec>,
     /// Initial state.
     #[serde(default)]
     pub initial: InitialSpec,

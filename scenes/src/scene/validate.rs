@@ -174,6 +174,20 @@ impl Scene {
         if let Some(w) = &self.wind {
             w.build()?;
         }
+        if let Some(g) = &self.ground {
+            g.check()?;
+            if matches!(self.integrator.kind.as_str(), "euler" | "lgvi") {
+                return Err((
+                    "integrator.kind",
+                    format!(
+                        "`integrator.kind` = \"{}\" cannot step the ground contact (explicit \
+                         Euler is unstable on it, the LGVI's iteration does not converge): \
+                         use rk4, rk4-projected, rkmk4 or dopri",
+                        self.integrator.kind
+                    ),
+                ));
+            }
+        }
         if let Some(d) = &self.disturbance {
             finite3("disturbance.force", &d.force)?;
             finite3("disturbance.moment", &d.moment)?;
