@@ -109,7 +109,8 @@ pub enum PositionRef {
     /// A Crazyflie piecewise-polynomial trajectory file (`pptraj` CSV,
     /// z up, as the Crazyflie's tools write it), flown from time `start`.
     TrajectoryFile {
-        /// The file; a relative path is relative to the scene file.
+        /// The file; a relative path is relative to the scene file (to
+        /// the working directory for a scene given as text).
         path: String,
         /// When the trajectory starts, s.
         #[serde(default)]
