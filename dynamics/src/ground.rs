@@ -18,9 +18,13 @@
 //! rate-dependent loads does not converge on it, so a simulation refuses
 //! both for a vehicle on the ground.
 
+use core::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
 use lie::{Backend, M3, Real, S, V3, ops};
 
-use crate::{Capabilities, DynamicsError, LoadInput, Loads, RigidBodyState, Vehicle, Wrench};
+use crate::{
+    Capabilities, Contact, DynamicsError, LoadInput, Loads, RigidBodyState, Vehicle, Wrench,
+};
 
 /// The ground's numbers (per contact point), in f64.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -91,6 +95,9 @@ pub struct OnGround<B: Backend, V> {
     vehicle: V,
     ground: Ground,
     feet: Vec<V3<B>>,
+    /// Whether [`Contact::hold`] holds the pushing feet, and which.
+    holding: AtomicBool,
+    held: AtomicU64,
 }
 
 impl<B: Backend, V: Vehicle<B>> OnGround<B, V> {
@@ -121,6 +128,8 @@ impl<B: Backend, V: Vehicle<B>> OnGround<B, V> {
             vehicle,
             ground,
             feet,
+            holding: AtomicBool::new(false),
+            held: AtomicU64::new(0),
         })
     }
 
@@ -148,23 +157,45 @@ impl<B: Backend, V: Vehicle<B>> OnGround<B, V> {
         z - S::<B>::lit(self.ground.height)
     }
 
+    /// The push `k δ + c δ̇` of the foot at `p` and its velocity, when it
+    /// is in the ground and pushing.
+    fn push(&self, state: &RigidBodyState<B>, p: V3<B>) -> Option<(S<B>, [S<B>; 3])> {
+        if self.depth(state, p).to_f64_lossless() <= 0.0 {
+            return None;
+        }
+        let (push, vel) = self.push_any(state, p);
+        (push.to_f64_lossless() > 0.0).then_some((push, vel))
+    }
+
+    /// `k δ + c δ̇` of the foot at `p` and its velocity, whatever their
+    /// signs (a held foot near its change).
+    fn push_any(&self, state: &RigidBodyState<B>, p: V3<B>) -> (S<B>, [S<B>; 3]) {
+        let g = &self.ground;
+        let depth = self.depth(state, p);
+        let vel = B::vec3_to_array(state.v + state.r * B::cross(state.omega, p));
+        let push = S::<B>::lit(g.stiffness) * depth + S::<B>::lit(g.damping) * vel[2];
+        (push, vel)
+    }
+
     /// The contact force (inertial) and moment (body) in `state`.
     pub fn contact(&self, state: &RigidBodyState<B>) -> Loads<B> {
         let g = &self.ground;
         let l = S::<B>::lit;
         let mut force = ops::zero::<B>();
         let mut moment = ops::zero::<B>();
-        for &p in &self.feet {
-            let depth = self.depth(state, p);
-            if depth.to_f64_lossless() <= 0.0 {
+        let held = self
+            .holding
+            .load(Ordering::Relaxed)
+            .then(|| self.held.load(Ordering::Relaxed));
+        for (i, &p) in self.feet.iter().enumerate() {
+            let found = match held {
+                None => self.push(state, p),
+                Some(m) if i < 64 && m & (1 << i) != 0 => Some(self.push_any(state, p)),
+                Some(_) => None,
+            };
+            let Some((push, [vx, vy, _])) = found else {
                 continue;
-            }
-            let vel = state.v + state.r * B::cross(state.omega, p);
-            let [vx, vy, vz] = B::vec3_to_array(vel);
-            let push = l(g.stiffness) * depth + l(g.damping) * vz;
-            if push.to_f64_lossless() <= 0.0 {
-                continue;
-            }
+            };
             let slip = (vx * vx + vy * vy + l(g.slip_speed * g.slip_speed)).sqrt();
             let k = l(g.friction) * push / slip;
             let f = B::vec3(-k * vx, -k * vy, -push);
@@ -212,7 +243,29 @@ impl<B: Backend, V: Vehicle<B>> Vehicle<B> for OnGround<B, V> {
     }
     fn capabilities(&self) -> Capabilities<'_, B> {
         let mut c = self.vehicle.capabilities().rate_dependent(true);
-        c.contact = true;
+        c.contact = Some(self);
         c
+    }
+}
+
+impl<B: Backend, V: Vehicle<B>> Contact<B> for OnGround<B, V> {
+    fn pushing(&self, state: &RigidBodyState<B>) -> u64 {
+        let mut mask = 0u64;
+        for (i, &p) in self.feet.iter().enumerate().take(64) {
+            if self.push(state, p).is_some() {
+                mask |= 1 << i;
+            }
+        }
+        mask
+    }
+    fn hold(&self, mask: Option<u64>) {
+        self.held.store(mask.unwrap_or(0), Ordering::Relaxed);
+        self.holding.store(mask.is_some(), Ordering::Relaxed);
+    }
+    fn normal_speed(&self, state: &RigidBodyState<B>, i: usize) -> f64 {
+        self.feet.get(i).map_or(0.0, |&p| {
+            let vel = state.v + state.r * B::cross(state.omega, p);
+            B::vec3_to_array(vel)[2].to_f64_lossless()
+        })
     }
 }

@@ -77,7 +77,8 @@ pub mod wind;
 pub use ground::{Ground, OnGround};
 pub use multirotor::{Multirotor, MultirotorParams, Rotor};
 pub use vehicle::{
-    Actuators, Capabilities, Command, ConfigurationMoment, LoadInput, Vehicle, body_loads, loads,
+    Actuators, Capabilities, Command, ConfigurationMoment, Contact, LoadInput, Vehicle, body_loads,
+    loads,
 };
 pub use vehicles::{AttitudeStand, FreeRigidBody, Hexarotor, Quadrotor, RotorLimits};
 pub use wind::{ConstantWind, DrydenSpec, DrydenWind, LadderWind, SinusoidWind, Wind, WindError};

@@ -77,9 +77,9 @@ pub struct Capabilities<'a, B: Backend> {
     /// An attitude-dependent moment (gravity about a pivot) that a flight
     /// loop may compensate in its command.
     pub configuration_moment: Option<&'a dyn ConfigurationMoment<B>>,
-    /// Whether the loads include a stiff contact (the ground): a
-    /// simulation then refuses the steppers that cannot step it.
-    pub contact: bool,
+    /// A stiff contact in the loads (the ground): a simulation refuses
+    /// the steppers that cannot step it and locates where it changes.
+    pub contact: Option<&'a dyn Contact<B>>,
 }
 
 impl<B: Backend> Capabilities<'_, B> {
@@ -89,7 +89,7 @@ impl<B: Backend> Capabilities<'_, B> {
         rate_dependent_loads: false,
         actuators: None,
         configuration_moment: None,
-        contact: false,
+        contact: None,
     };
 }
 
@@ -139,6 +139,22 @@ pub trait Actuators<B: Backend>: Send + Sync {
     /// (e.g. rotors already spinning at it); `states` has
     /// [`Actuators::state_count`] entries, zero on entry.
     fn initial_states(&self, _first: Command<'_, B>, _states: &mut [S<B>]) {}
+}
+
+/// Contact points whose loads switch on and off (feet on the ground): a
+/// simulation splits a step where the set of points pushing changes, so
+/// that no step integrates across the switch.
+pub trait Contact<B: Backend>: Send + Sync {
+    /// The points pushing in `state`, bit `i` for point `i` (at most 64).
+    fn pushing(&self, state: &RigidBodyState<B>) -> u64;
+    /// Point `i`'s velocity into the contact in `state`, m/s (positive
+    /// towards it).
+    fn normal_speed(&self, state: &RigidBodyState<B>, i: usize) -> f64;
+    /// Holds the points of `mask` pushing and the others not, whatever the
+    /// state, until called with `None`: a simulation integrates up to a
+    /// located change on the side it came from. [`Contact::pushing`]
+    /// still reads the state.
+    fn hold(&self, mask: Option<u64>);
 }
 
 /// An attitude-dependent moment, body frame, such as gravity about a pivot.

@@ -64,8 +64,8 @@ pub mod lanes;
 mod sim;
 
 pub use sim::{
-    BreakpointCrossing, CAPACITIES, Condition, Control, Divergence, DivergenceGuard, Health,
-    LoopRates, MeasurementRecord, NavSample, OpenLoop, OutputError, PsiRange, Readout, RunOptions,
-    RunOutput, Sample, Segment, SimError, SimState, SimStateMut, Simulation, SimulationBuilder,
-    Sink, StateLayout, SwitchRecord, Tee, Termination, Until, Watched,
+    BreakpointCrossing, CAPACITIES, Condition, ContactChange, Control, Divergence, DivergenceGuard,
+    Health, LoopRates, MeasurementRecord, NavSample, OpenLoop, OutputError, PsiRange, Readout,
+    RunOptions, RunOutput, Sample, Segment, SimError, SimState, SimStateMut, Simulation,
+    SimulationBuilder, Sink, StateLayout, SwitchRecord, Tee, Termination, Until, Watched,
 };

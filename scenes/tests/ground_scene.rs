@@ -45,3 +45,28 @@ fn bad_ground_settings_name_the_key() {
         assert!(e.message.contains(kind) && e.message.contains("rk4"), "{e}");
     }
 }
+
+/// A take-off from the ground: position mode holding 1 m up lifts the
+/// vehicle off its feet; the four lift-offs are located, at the same
+/// times whatever the recording, and it arrives.
+#[test]
+fn a_take_off_locates_the_lift_off_whatever_the_recording() {
+    let text = "[ground]\n[[plan]]\nmode = \"position\"\n[plan.position]\nkind = \"hold\"\n\
+                x = [0.0, 0.0, -1.0]\nb1d = [1.0, 0.0, 0.0]";
+    let mut s = scene(text).unwrap();
+    s.duration = 6.0;
+    // Resting on its feet at the start.
+    let k = s.ground.as_ref().unwrap().stiffness;
+    s.initial.x[2] = -0.1 + s.vehicle.mass * s.vehicle.gravity / (4.0 * k);
+    let out = scenes::run(&s, Default::default()).unwrap();
+    s.record.sample = 0.37;
+    let sparse = scenes::run(&s, Default::default()).unwrap();
+    assert_eq!(out.contacts, sparse.contacts);
+    let off: Vec<_> = out.contacts.iter().filter(|c| !c.pushing).collect();
+    assert!(off.len() >= 4, "{:?}", out.contacts);
+    // Lifted off within the first half second, and none pushes at the end.
+    println!("lift-off at {:.6} s, {} contact changes", off[0].t, out.contacts.len());
+    assert!(off[0].t < 0.5, "{:?}", off[0]);
+    let last = out.samples.last().unwrap();
+    assert!((last.x[2] + 1.0).abs() < 0.05, "{:?}", last.x);
+}

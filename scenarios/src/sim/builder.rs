@@ -204,7 +204,7 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
         if let Some(f) = self.initial.non_finite_field() {
             return Err(bad("initial", format!("`{f}` is not finite")));
         }
-        if self.vehicle.capabilities().contact {
+        if self.vehicle.capabilities().contact.is_some() {
             let name = integrators::Integrator::<B, 0>::name(&self.stepper.for_slots::<0>());
             if matches!(name, "euler" | "lgvi") {
                 return Err(bad(

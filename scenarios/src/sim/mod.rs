@@ -53,8 +53,8 @@ pub use builder::SimulationBuilder;
 pub use error::SimError;
 use error::bad;
 pub use output_types::{
-    BreakpointCrossing, Divergence, DivergenceGuard, Health, PsiRange, RunOutput, Sample,
-    SwitchRecord, Termination,
+    BreakpointCrossing, ContactChange, Divergence, DivergenceGuard, Health, PsiRange, RunOutput,
+    Sample, SwitchRecord, Termination,
 };
 pub use sink::{OutputError, Sink, Tee, Watched};
 

@@ -103,6 +103,23 @@ pub struct RunOutput {
     /// Every measurement the sensors took, in the order taken per step
     /// (each carries its time; empty without sensors or recording).
     pub measurements: Vec<super::MeasurementRecord>,
+    /// Each located change of a contact point (a foot starting or ceasing
+    /// to push on the ground), in time order; empty without contact.
+    pub contacts: Vec<ContactChange>,
+}
+
+/// A contact point starting or ceasing to push (a touchdown or a
+/// lift-off), located inside the step where it happened.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ContactChange {
+    /// The located time, s.
+    pub t: f64,
+    /// The contact point's index (the order the vehicle gives them).
+    pub point: usize,
+    /// True when it starts pushing (a touchdown), false when it stops.
+    pub pushing: bool,
+    /// Its velocity into the contact there, m/s (the touchdown speed).
+    pub normal_speed: f64,
 }
 
 /// A located breakpoint crossing (the paper's sat′: a component of e_i

@@ -375,6 +375,46 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             (r.seg_start, r.j) = (r.t, 0);
             return Ok(false);
         }
+        // A contact point starting or ceasing to push: its load switches,
+        // so the step is redone up to the change (bisection on redone
+        // steps) and the next one starts there.
+        if let Some(c) = sys.caps.contact {
+            let m0 = c.pushing(&before.body);
+            if c.pushing(&y.body) != m0 {
+                let holds = &mut |_: &mut ClosedLoop<'_, '_, B, N>, _, yy: &State<B, N>| {
+                    c.pushing(&yy.body) != m0
+                };
+                // Integrated on the side it came from: the loads switch at
+                // the change, and a stage past it would carry the switch
+                // into the located state.
+                c.hold(Some(m0));
+                let located = locate_condition(sys, *stepper, holds, (t, ts, h, before, y));
+                let (tc, _) = located.inspect_err(|_| c.hold(None))?;
+                let mut y_c = *before;
+                stepper.reset();
+                let redone = stepper.step(*sys, S::<B>::lit(t), S::<B>::lit(tc - t), &mut y_c);
+                c.hold(None);
+                redone.map_err(|e| sys.step_error(t, tc - t, e))?;
+                emit.inside(&mut r.out, sys, *stepper, (t, before), (tc, &y_c))?;
+                sense::piece(sys, *stepper, (t, before), (tc, &y_c))?;
+                let changed = m0 ^ c.pushing(&y_c.body);
+                for i in (0..64).filter(|i| changed & (1 << i) != 0) {
+                    r.out.contacts.push(super::ContactChange {
+                        t: tc,
+                        point: i,
+                        pushing: m0 & (1 << i) == 0,
+                        normal_speed: c.normal_speed(&y_c.body, i),
+                    });
+                }
+                **y = y_c;
+                stepper.reset();
+                // The change's time is taken as a constant in a dual run
+                // (no derivative through it).
+                (r.t, r.phase) = (tc, S::<B>::lit(0.0));
+                (r.seg_start, r.j) = (r.t, 0);
+                return Ok(false);
+            }
+        }
         // A condition switch (Ψ below a threshold, a user predicate): when
         // it holds at the end of this step, bisect on redone steps for the
         // first instant and switch there.
@@ -498,6 +538,7 @@ fn empty_output(mode_names: Vec<&'static str>) -> RunOutput {
         psi_range: PsiRange::EMPTY,
         last: empty_sample(),
         measurements: Vec::new(),
+        contacts: Vec::new(),
     }
 }
 
