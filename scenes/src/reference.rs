@@ -156,12 +156,7 @@ pub fn planned(p: &PositionRef) -> Option<Planned> {
 /// For a planned reference that does not validate (see [`planned`]).
 pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
     match p {
-        PositionRef::MinSnap { .. } | PositionRef::TrajectoryFile { .. } => {
-            let plan = planned(p).expect("a planned reference");
-            let f = plan.0.flat(t - plan.1);
-            let (s, c) = f.yaw[0].sin_cos();
-            (f.x, [c, s, 0.0])
-        }
+        PositionRef::MinSnap { .. } | PositionRef::TrajectoryFile { .. } => planned_f64(p, t),
         PositionRef::Hold { x, b1d } => {
             let n = (b1d[0] * b1d[0] + b1d[1] * b1d[1] + b1d[2] * b1d[2]).sqrt();
             (
@@ -225,12 +220,42 @@ pub fn position_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
     }
 }
 
+/// [`position_f64`] of a planned reference, out of the curves' way.
+#[cold]
+#[inline(never)]
+fn planned_f64(p: &PositionRef, t: f64) -> ([[f64; 3]; 5], [f64; 3]) {
+    let plan = planned(p).expect("a planned reference");
+    let f = plan.0.flat(t - plan.1);
+    let (s, c) = f.yaw[0].sin_cos();
+    (f.x, [c, s, 0.0])
+}
+
+/// [`position`] of a planned reference, out of the curves' way.
+#[cold]
+#[inline(never)]
+fn planned_position<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
+    let plan = planned(p).expect("a planned reference");
+    plan.0.position(t - S::<B>::lit(plan.1))
+}
+
 /// The position reference in backend types (a planned one with the
 /// heading's derivatives from its yaw).
+#[inline]
 pub fn position<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
-    if let Some(plan) = planned(p) {
-        return plan.0.position(t - S::<B>::lit(plan.1));
+    if matches!(
+        p,
+        PositionRef::MinSnap { .. } | PositionRef::TrajectoryFile { .. }
+    ) {
+        return planned_position(p, t);
     }
+    curve::<B>(p, t)
+}
+
+/// [`position`] of an analytic curve (a planned reference is evaluated
+/// through [`position_f64`], without its heading's derivatives).
+#[doc(hidden)]
+#[inline]
+pub fn curve<B: Backend>(p: &PositionRef, t: S<B>) -> PositionReference<B> {
     let (d, b1) = position_f64(p, t.to_f64_lossless());
     let mut r = PositionReference::<B>::hold(v::<B>(d[0]), v::<B>(b1));
     r.v = v::<B>(d[1]);

@@ -76,13 +76,22 @@ impl<B: Backend> ScenePosition<B> {
     }
 }
 
+/// A planned trajectory at `t`: out of line, so that the curves' arms
+/// stay inlined into the law.
+#[inline(never)]
+fn planned<B: Backend>(tr: &Trajectory, start: f64, t: S<B>) -> PositionReference<B> {
+    tr.position(t - S::<B>::lit(start))
+}
+
 impl<B: Backend> PositionSource<B> for ScenePosition<B> {
-    #[inline]
+    // Inlined into the law, as before the planned arm was added (which
+    // made it large enough to stay out of line at a call per load).
+    #[inline(always)]
     fn position(&self, t: S<B>) -> PositionReference<B> {
         match self {
             ScenePosition::Const(r, _) => *r,
-            ScenePosition::Generated(p) => reference::position::<B>(p, t),
-            ScenePosition::Planned(tr, start) => tr.position(t - S::<B>::lit(*start)),
+            ScenePosition::Generated(p) => reference::curve::<B>(p, t),
+            ScenePosition::Planned(tr, start) => planned::<B>(tr, *start, t),
         }
     }
     #[inline]

@@ -65,7 +65,11 @@ fn a_take_off_locates_the_lift_off_whatever_the_recording() {
     let off: Vec<_> = out.contacts.iter().filter(|c| !c.pushing).collect();
     assert!(off.len() >= 4, "{:?}", out.contacts);
     // Lifted off within the first half second, and none pushes at the end.
-    println!("lift-off at {:.6} s, {} contact changes", off[0].t, out.contacts.len());
+    println!(
+        "lift-off at {:.6} s, {} contact changes",
+        off[0].t,
+        out.contacts.len()
+    );
     assert!(off[0].t < 0.5, "{:?}", off[0]);
     let last = out.samples.last().unwrap();
     assert!((last.x[2] + 1.0).abs() < 0.05, "{:?}", last.x);

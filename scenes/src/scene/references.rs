@@ -34,6 +34,9 @@ pub enum AttitudeRef {
 /// Position references.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+// An explicit tag: without it the variant is read out of a niche of the
+// waypoints' `Vec`, which costs the curves' evaluation in every step.
+#[repr(u8)]
 pub enum PositionRef {
     /// Hold x_d with heading b1d.
     Hold {
