@@ -91,16 +91,13 @@ fn a_dropped_vehicle_settles_at_the_resting_depth() {
     assert!(last.v.iter().all(|c| c.abs() < 1e-9), "{:?}", last.v);
 }
 
-/// While the feet are in, the contact is the linear oscillator
-/// `m δ̈ = m g − 4k δ − 4c δ̇` from `δ = 0`, `δ̇ = √(2 g h)` at
-/// `t₀ = √(2h/g)` (free fall, which RK4 steps exactly): its solution in
-/// closed form, against the flight at a 10 µs step.
-#[test]
-fn the_contact_is_the_linear_oscillator_while_the_feet_are_in() {
+/// The contact of a drop from `h` above the ground while the feet are in:
+/// the linear oscillator `m δ̈ = m g − 4k δ − 4c δ̇` from `δ = 0`,
+/// `δ̇ = √(2 g h)` at `t₀ = √(2h/g)` (free fall, which RK4 steps exactly),
+/// in closed form: `(t₀, v₀, δ(t − t₀))`.
+fn dropped_oscillator(h: f64) -> (f64, f64, impl Fn(f64) -> f64) {
     let v = on_ground();
     let depth = resting_depth(&v);
-    let h = 0.01;
-    let out = fly(IntegratorKind::Rk4, start_at(-0.1 - h), 0.05, 1e-5).unwrap();
     let (m, g) = (v.mass(), v.gravity());
     let (k, c) = (4.0 * v.ground().stiffness, 4.0 * v.ground().damping);
     let (w, zeta) = ((k / m).sqrt(), c / (2.0 * (k * m).sqrt()));
@@ -108,7 +105,19 @@ fn the_contact_is_the_linear_oscillator_while_the_feet_are_in() {
     let (t0, v0) = ((2.0 * h / g).sqrt(), (2.0 * g * h).sqrt());
     let (a, b) = (-depth, (v0 - zeta * w * depth) / wd);
     let oscillator =
-        |t: f64| depth + (-zeta * w * t).exp() * (a * (wd * t).cos() + b * (wd * t).sin());
+        move |t: f64| depth + (-zeta * w * t).exp() * (a * (wd * t).cos() + b * (wd * t).sin());
+    (t0, v0, oscillator)
+}
+
+/// While the feet are in, the contact is the linear oscillator
+/// `m δ̈ = m g − 4k δ − 4c δ̇` from `δ = 0`, `δ̇ = √(2 g h)` at
+/// `t₀ = √(2h/g)` (free fall, which RK4 steps exactly): its solution in
+/// closed form, against the flight at a 10 µs step.
+#[test]
+fn the_contact_is_the_linear_oscillator_while_the_feet_are_in() {
+    let h = 0.01;
+    let out = fly(IntegratorKind::Rk4, start_at(-0.1 - h), 0.05, 1e-5).unwrap();
+    let (t0, v0, oscillator) = dropped_oscillator(h);
     // Up to the deepest point (1.56 ms after touchdown): after it the
     // damper lets go as the feet rise, and the model is no longer linear.
     let (mut worst, mut peak) = (0.0f64, 0.0f64);
@@ -137,17 +146,8 @@ fn the_contact_is_the_linear_oscillator_while_the_feet_are_in() {
 /// depend on the recording.
 #[test]
 fn touchdown_is_located_whatever_the_step_and_the_recording() {
-    let v = on_ground();
-    let depth = resting_depth(&v);
     let h = 0.01;
-    let (m, g) = (v.mass(), v.gravity());
-    let (k, c) = (4.0 * v.ground().stiffness, 4.0 * v.ground().damping);
-    let (w, zeta) = ((k / m).sqrt(), c / (2.0 * (k * m).sqrt()));
-    let wd = w * (1.0 - zeta * zeta).sqrt();
-    let (t0, v0) = ((2.0 * h / g).sqrt(), (2.0 * g * h).sqrt());
-    let (a, b) = (-depth, (v0 - zeta * w * depth) / wd);
-    let oscillator =
-        |t: f64| depth + (-zeta * w * t).exp() * (a * (wd * t).cos() + b * (wd * t).sin());
+    let (t0, _, oscillator) = dropped_oscillator(h);
     let closed = (0..20_000)
         .map(|i| oscillator(i as f64 * 1e-7))
         .fold(f64::NEG_INFINITY, f64::max);

@@ -184,18 +184,18 @@ pub enum PlanError {
 impl PlanError {
     /// The scene key at fault, for locating it in the file.
     pub(crate) fn key(&self) -> &'static str {
-        let field = match self {
-            PlanError::Timing => return "times",
-            PlanError::Mission(MissionError::Input { field, .. }) => field.as_str(),
+        match self {
+            PlanError::Timing => "times",
+            PlanError::Mission(MissionError::Input { field, .. }) => {
+                ["waypoints", "yaw", "times", "mean_speed", "time_budget"]
+                    .into_iter()
+                    .find(|k| field.starts_with(k))
+                    .unwrap_or("waypoints")
+            }
+            // A degenerate system: the waypoints and their times.
+            PlanError::Mission(MissionError::Solve { .. }) => "waypoints",
             PlanError::Mission(_) => "path",
-        };
-        ["waypoints", "yaw", "times", "mean_speed", "time_budget"]
-            .into_iter()
-            .find(|k| field.starts_with(k))
-            .unwrap_or(match self {
-                PlanError::Mission(MissionError::Input { .. }) => "waypoints",
-                _ => "path",
-            })
+        }
     }
 }
 
