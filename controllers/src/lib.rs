@@ -65,6 +65,7 @@ mod lanes;
 mod mode;
 mod mode_scheduler;
 pub mod paper;
+mod phases;
 mod position_pid;
 
 pub use attitude_pid::{
@@ -77,6 +78,7 @@ pub use mode::{
     load_token,
 };
 pub use mode_scheduler::{NoCondition, Phase, Scheduler, Segment, Switch, Until};
+pub use phases::{FlightPhase, MotorsOff, Vertical, VerticalReference};
 pub use position_pid::{
     AccelerationModel, Degeneracy, Mask, PositionGains, PositionInput, PositionOutput,
     PositionReference, SatBranch, VehicleState, position_control, position_law,

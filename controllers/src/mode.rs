@@ -416,7 +416,7 @@ impl<B: Backend, R: Rotation<B>, M: Mode<B, R> + ?Sized> Mode<B, R> for &mut M {
 
 /// The key to [`Mode::load_command`]: public so that a simulation can call
 /// it, in a private module so that no mode can override it.
-mod sealed {
+pub(crate) mod sealed {
     /// Only this crate's [`token`](super::load_token) makes one.
     #[derive(Copy, Clone, Debug)]
     pub struct Token(pub(super) ());
@@ -620,6 +620,16 @@ impl<B: Backend, P: PositionSource<B>> PositionMode<B, P> {
     pub fn keep_integral_on_entry(mut self) -> Self {
         self.reset_on_entry = false;
         self
+    }
+
+    /// The reference tracked.
+    pub(crate) fn reference(&self) -> &P {
+        &self.reference
+    }
+
+    /// The reference, to re-anchor it (a flight phase on entry).
+    pub(crate) fn reference_mut(&mut self) -> &mut P {
+        &mut self.reference
     }
 }
 

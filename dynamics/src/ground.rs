@@ -10,13 +10,16 @@
 //! as the foot lifts), and its slip `u` (the foot's velocity in the plane)
 //! is opposed by `μ N u / √(|u|² + s²)`.
 //!
-//! The contact is stiff: its frequency `√(n k / m)` is hundreds of rad/s
-//! for the paper's quadrotor. The explicit Runge–Kutta steppers (RK4, its
-//! projected and Munthe-Kaas forms, Dormand–Prince) resolve it at a step of
-//! a millisecond or less; explicit Euler is unstable on it at any step a
-//! flight uses, and the variational integrator's fixed-point iteration on
-//! rate-dependent loads does not converge on it, so a simulation refuses
-//! both for a vehicle on the ground.
+//! The contact is stiff: its heave frequency `√(n k / m)` is hundreds of
+//! rad/s for the paper's quadrotor, and rocking on the feet, damped by the
+//! dampers and the friction, is stiffer still. The explicit Runge–Kutta
+//! steppers (RK4, its projected and Munthe-Kaas forms, Dormand–Prince)
+//! resolve it at a step short enough for its stiffest mode (a simulation
+//! refuses a longer fixed step, naming the bound); explicit Euler is
+//! unstable on it at any step a flight uses, and the variational
+//! integrator's fixed-point iteration on rate-dependent loads does not
+//! converge on it, so a simulation refuses both for a vehicle on the
+//! ground.
 
 use core::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -41,27 +44,35 @@ pub struct Ground {
     /// Slip speed below which friction grows linearly, m/s: the
     /// regularisation `s` that keeps the friction force continuous.
     pub slip_speed: f64,
+    /// The speed into the ground, m/s, above which a foot's touchdown is a
+    /// crash (a simulation ends the run there; `f64::INFINITY`: never).
+    pub crash_speed: f64,
 }
 
 impl Ground {
     /// A stiff floor at `height`: k = 10⁵ N/m and c = 200 N s/m per
-    /// contact, μ = 0.5, s = 1 cm/s. On four such feet the paper's 0.755 kg
-    /// quadrotor rests 19 µm deep with 0.73 of critical damping, its
-    /// contact frequency 730 rad/s (RK4 steps it at 1 ms), and a 0.5 m/s
-    /// touchdown stays under 0.7 mm deep. A heavier vehicle needs a stiffer
-    /// ground for the same depth (the depth scales with `v √(m / k)`).
+    /// contact, μ = 0.5, s = 5 cm/s, a crash above 1 m/s (a drop from 5 cm).
+    /// On four feet under the paper's 0.755 kg quadrotor's arms the vehicle
+    /// rests 19 µm deep with 0.73 of critical damping in heave (730 rad/s),
+    /// a 0.5 m/s touchdown stays under 0.7 mm deep, and the stiffest mode,
+    /// rocking on the feet, runs at about 2 200/s, which RK4 steps at 1 ms
+    /// (see [`OnGround::stiffest_rate`]). A heavier vehicle needs a stiffer
+    /// ground for the same depth (the depth scales with `v √(m / k)`); feet
+    /// further out, or a smaller `s`, make the rocking stiffer.
     pub fn at(height: f64) -> Self {
         Self {
             height,
             stiffness: 1e5,
             damping: 200.0,
             friction: 0.5,
-            slip_speed: 0.01,
+            slip_speed: 0.05,
+            crash_speed: 1.0,
         }
     }
 
     /// Checks every number: finite; stiffness and slip speed positive;
-    /// damping and friction not negative.
+    /// damping and friction not negative; the crash speed positive
+    /// (infinite: no crash).
     pub fn check(&self) -> Result<(), DynamicsError> {
         let bad = |field, value: f64, expected| {
             Err(DynamicsError::InvalidParameter {
@@ -84,6 +95,13 @@ impl Ground {
         }
         if !(self.slip_speed.is_finite() && self.slip_speed > 0.0) {
             return bad("ground.slip_speed", self.slip_speed, "finite and > 0 (m/s)");
+        }
+        if self.crash_speed.is_nan() || self.crash_speed <= 0.0 {
+            return bad(
+                "ground.crash_speed",
+                self.crash_speed,
+                "> 0 (m/s; inf: never)",
+            );
         }
         Ok(())
     }
@@ -141,6 +159,53 @@ impl<B: Backend, V: Vehicle<B>> OnGround<B, V> {
     /// The vehicle it carries.
     pub fn vehicle(&self) -> &V {
         &self.vehicle
+    }
+
+    /// The largest rate of the contact's linearised modes while every foot
+    /// carries its share `mg/n` of the weight, 1/s: heave
+    /// (`m δ̈ + n c δ̇ + n k δ = 0`), rocking about `b1` and `b2` (the
+    /// springs and dampers on the feet's lever arms, `J_ii θ̈ + c Σr² θ̇ +
+    /// k Σr² θ = 0`, with the friction's viscous part below the slip speed,
+    /// `μ (mg/n)/s` per foot, acting on the feet's depth `Σp₃²`), yaw
+    /// (that friction on the feet's horizontal reach) and sliding
+    /// (`μ g / s`). For each mode the larger root magnitude of
+    /// `λ² + aλ + b`.
+    pub fn stiffest_rate(&self) -> f64 {
+        let g = &self.ground;
+        let m = self.vehicle.mass().to_f64_lossless();
+        let grav = self.vehicle.gravity().to_f64_lossless();
+        let j = ops::elems::<B>(self.vehicle.inertia()).map(|r| r.map(|c| c.to_f64_lossless()));
+        let feet: Vec<[f64; 3]> = self
+            .feet
+            .iter()
+            .map(|p| B::vec3_to_array(*p).map(|c| c.to_f64_lossless()))
+            .collect();
+        let n = feet.len() as f64;
+        // The friction's viscous coefficient per foot below the slip speed.
+        let viscous = g.friction * m * grav / (n * g.slip_speed);
+        let root = |a: f64, b: f64| {
+            if a * a > 4.0 * b {
+                0.5 * (a + (a * a - 4.0 * b).sqrt())
+            } else {
+                b.sqrt()
+            }
+        };
+        let sum = |f: &dyn Fn(&[f64; 3]) -> f64| feet.iter().map(f).sum::<f64>();
+        let depth = sum(&|p| p[2] * p[2]);
+        let heave = root(n * g.damping / m, n * g.stiffness / m);
+        let rock = |lever: f64, jii: f64| {
+            root(
+                (g.damping * lever + viscous * depth) / jii,
+                g.stiffness * lever / jii,
+            )
+        };
+        let roll = rock(sum(&|p| p[1] * p[1]), j[0][0]);
+        let pitch = rock(sum(&|p| p[0] * p[0]), j[1][1]);
+        let yaw = viscous * sum(&|p| p[0] * p[0] + p[1] * p[1]) / j[2][2];
+        let slide = n * viscous / m;
+        [heave, roll, pitch, yaw, slide]
+            .into_iter()
+            .fold(0.0, f64::max)
     }
 
     /// The deepest penetration of a foot in `state`, m (negative: every
@@ -261,6 +326,12 @@ impl<B: Backend, V: Vehicle<B>> Contact<B> for OnGround<B, V> {
     fn hold(&self, mask: Option<u64>) {
         self.held.store(mask.unwrap_or(0), Ordering::Relaxed);
         self.holding.store(mask.is_some(), Ordering::Relaxed);
+    }
+    fn crash_speed(&self) -> f64 {
+        self.ground.crash_speed
+    }
+    fn stiffest_rate(&self) -> f64 {
+        self.stiffest_rate()
     }
     fn normal_speed(&self, state: &RigidBodyState<B>, i: usize) -> f64 {
         self.feet.get(i).map_or(0.0, |&p| {

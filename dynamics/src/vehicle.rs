@@ -155,6 +155,18 @@ pub trait Contact<B: Backend>: Send + Sync {
     /// located change on the side it came from. [`Contact::pushing`]
     /// still reads the state.
     fn hold(&self, mask: Option<u64>);
+    /// The speed into the contact above which a touchdown is a crash,
+    /// m/s (a simulation ends the run there); never, by default.
+    fn crash_speed(&self) -> f64 {
+        f64::INFINITY
+    }
+    /// The largest rate, 1/s, at which the contact's fastest mode decays
+    /// or oscillates while it carries the vehicle: a fixed-step explicit
+    /// stepper is stable on it only below a limit of `rate · dt` (2.78 for
+    /// RK4), so a simulation refuses a longer step. Zero by default.
+    fn stiffest_rate(&self) -> f64 {
+        0.0
+    }
 }
 
 /// An attitude-dependent moment, body frame, such as gravity about a pivot.

@@ -120,9 +120,10 @@ class Result:
     run is sound). Figures: ``steps``, ``evaluations``, ``max_thrust``,
     ``max_rotor``, ``wall`` (s), ``max_orthogonality_error``,
     ``psi_range``, ``epsilon``. ``termination`` is a dict: ``kind``
-    ("completed", "stopped", "interrupted" or "diverged"; "unknown" for a
-    reason newer than this package), ``t`` and, for a divergence, ``what``
-    and ``value``.
+    ("completed", "stopped", "interrupted", "diverged" or "crashed";
+    "unknown" for a reason newer than this package), ``t`` and, for a
+    divergence, ``what`` and ``value``; for a crash (a touchdown faster
+    than ``ground.crash_speed``), the foot ``point`` and its ``speed``.
 
     With sensors, ``measurements`` holds a dict of arrays per sensor, a
     row per sample it took: ``imu`` (``t``, ``accel``, ``gyro``),

@@ -14,8 +14,9 @@ use crate::scene::Scene;
 use crate::{DivergedError, sim_error};
 
 /// How a run ended, as a dict: `kind` (completed, stopped, interrupted,
-/// diverged), `t` (None when completed), and for a divergence `what`
-/// (omega, position_error, moment, substeps) and `value`; a reason the
+/// diverged, crashed), `t` (None when completed), for a divergence `what`
+/// (omega, position_error, moment, substeps) and `value`, for a crash the
+/// foot `point` and its `speed` into the ground; a reason the
 /// engine gains later reads `unknown` until this binding names it.
 pub(crate) fn termination<'py>(py: Python<'py>, t: &Termination) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -34,6 +35,11 @@ pub(crate) fn termination<'py>(py: Python<'py>, t: &Termination) -> PyResult<Bou
             d.set_item("what", name)?;
             d.set_item("value", value)?;
             ("diverged", Some(t))
+        }
+        Termination::Crashed { t, point, speed } => {
+            d.set_item("point", point)?;
+            d.set_item("speed", speed)?;
+            ("crashed", Some(t))
         }
         _ => ("unknown", None),
     };

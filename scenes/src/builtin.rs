@@ -214,6 +214,57 @@ pub fn waypoints_square_climb() -> Scene {
     s
 }
 
+/// A whole flight from the ground and back: resting on four feet at the
+/// start, a take-off of 1 m at 0.5 m/s, a minimum-snap loop around a 1.5 m
+/// square at 1 m/s, a landing at 0.3 m/s, and the motors cut at the
+/// touchdown; a touchdown faster than 0.5 m/s would end the run as a crash.
+/// RK4 at 1 ms (the contact's frequency is 730 rad/s).
+pub fn mission_takeoff_waypoints_land() -> Scene {
+    let mut s = base(
+        "mission-takeoff-waypoints-land",
+        "Take-off from the ground, a minimum-snap loop around a square, landing, motors off at touchdown.",
+        20.0,
+    );
+    let ground = GroundSpec {
+        crash_speed: 0.5,
+        ..GroundSpec::default()
+    };
+    // At rest on the default feet (0.1 m below the centre of mass), each
+    // pressed mg/(4k) into the ground.
+    let rest = ground.height - 0.1 + s.vehicle.mass * s.vehicle.gravity / (4.0 * ground.stiffness);
+    s.ground = Some(ground);
+    s.initial.x = [0.0, 0.0, rest];
+    let z = rest - 1.0;
+    let mut take_off = SegmentSpec::phase(ModeKind::TakeOff).until(6.0);
+    (take_off.height, take_off.rate) = (Some(1.0), Some(0.5));
+    let mut land = SegmentSpec::phase(ModeKind::Land).until_clearance(0.0);
+    land.rate = Some(0.3);
+    s.plan = vec![
+        take_off,
+        SegmentSpec::position(PositionRef::MinSnap {
+            waypoints: vec![
+                [0.0, 0.0, z],
+                [1.5, 0.0, z],
+                [1.5, 1.5, z],
+                [0.0, 1.5, z],
+                [0.0, 0.0, z],
+            ],
+            yaw: None,
+            times: None,
+            mean_speed: Some(1.0),
+            time_budget: None,
+            start: 6.0,
+        })
+        .until(13.0),
+        land,
+        SegmentSpec::phase(ModeKind::MotorsOff),
+    ];
+    s.integrator.kind = "rk4".into();
+    s.integrator.dt = 1e-3;
+    s.record.sample = 0.01;
+    s
+}
+
 /// DiffTune's quadrotor tuning problem (Cheng et al., T-RO 2024, and its
 /// open code): a 4.34 kg vehicle, J = diag(0.0820, 0.0845, 0.1377) kg m²,
 /// from rest at the origin (Ω(0) = 0.001 e3 rad/s) on the circle
@@ -357,6 +408,7 @@ pub fn all() -> Vec<Scene> {
         figure_eight_wind(),
         difftune_circle(),
         waypoints_square_climb(),
+        mission_takeoff_waypoints_land(),
     ]
 }
 

@@ -8,17 +8,21 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use controllers::{
-    AccelerationModel, AttitudeGains, AttitudeMode, AttitudeThrust, Mode, PositionGains,
-    PositionMode, PositionReference, RigidBodyParams,
+    AccelerationModel, AttitudeGains, AttitudeMode, AttitudeThrust, FlightPhase, Mode, MotorsOff,
+    PositionGains, PositionMode, PositionReference, RigidBodyParams, VehicleState,
 };
 use dynamics::{
     AttitudeStand, Disturbance, FreeRigidBody, Hexarotor, Multirotor, Quadrotor, Vehicle,
 };
 use integrators::{Stepper, StepperConfig};
-use lie::{Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S, So3Mat, ops};
+use lie::{
+    Backend, GlamF32, GlamF64, NalgebraF32, NalgebraF64, Real, Rotation, S, So3Mat, V3, ops,
+};
 
 use crate::reference::{self, m, v};
-use crate::scene::{AccelModel, BackendKind, GainsSpec, Scalar, Scene, ThrustSpec, VehicleKind};
+use crate::scene::{
+    AccelModel, BackendKind, GainsSpec, ModeKind, Scalar, Scene, ThrustSpec, VehicleKind,
+};
 use crate::sources::{SceneAttitude, ScenePosition};
 use crate::{Error, SceneError, builtin};
 use scenarios::{RunOptions, RunOutput, Segment, SimError, Simulation, SimulationBuilder, Until};
@@ -433,12 +437,20 @@ fn plan_with<B: Backend>(
     let (params, pg, ag, model) = gains::<B>(scene, vehicle, seeds);
     let hover = params.mass * params.gravity;
     let mut position_seen = false;
+    // Where a take-off, hover or landing that starts the plan is anchored.
+    let i = &scene.initial;
+    let start = VehicleState {
+        x: v::<B>(i.x),
+        v: v::<B>(i.v),
+        r: So3Mat::<B>::exp(v::<B>(i.rotation)),
+        omega: v::<B>(i.omega),
+    };
     scene
         .plan
         .iter()
         .map(|s| {
             let mode: Box<dyn Mode<B>> = match s.mode {
-                crate::scene::ModeKind::Attitude => {
+                ModeKind::Attitude => {
                     let a = SceneAttitude::<B>::new(s.attitude.as_ref().expect("validated"));
                     let thrust = match s.thrust {
                         ThrustSpec::Hover => AttitudeThrust::Constant(hover),
@@ -451,7 +463,14 @@ fn plan_with<B: Backend>(
                     };
                     Box::new(AttitudeMode::new(params, ag, a, thrust))
                 }
-                crate::scene::ModeKind::Position => {
+                ModeKind::TakeOff | ModeKind::Hover | ModeKind::Land => {
+                    position_seen = true;
+                    let vertical = s.vertical::<B>().expect("a vertical phase");
+                    let start = (&start, S::<B>::lit(0.0));
+                    Box::new(FlightPhase::new(params, (pg, ag), model, vertical, start))
+                }
+                ModeKind::MotorsOff => Box::new(MotorsOff),
+                ModeKind::Position => {
                     let keep = std::mem::replace(&mut position_seen, true);
                     match position {
                         Some(f) => {
@@ -466,14 +485,29 @@ fn plan_with<B: Backend>(
                     }
                 }
             };
-            let until = match (s.until, s.until_psi) {
-                (Some(u), _) => Until::Time(u),
-                (None, Some(p)) => Until::PsiBelow(p),
-                (None, None) => Until::Never,
+            let until = match (s.until, s.until_psi, s.until_clearance) {
+                (Some(u), ..) => Until::Time(u),
+                (None, Some(p), _) => Until::PsiBelow(p),
+                (None, None, Some(c)) => Until::Condition(clearance_below(scene, c)),
+                (None, None, None) => Until::Never,
             };
             Segment { mode, until }
         })
         .collect()
+}
+
+/// Whether the lowest foot of the scene's ground is at most `clearance`
+/// above it (validation makes sure the ground is there).
+fn clearance_below<B: Backend>(scene: &Scene, clearance: f64) -> scenarios::Condition<'static, B> {
+    let g = scene.ground.clone().unwrap_or_default();
+    let feet: Vec<V3<B>> = g.feet(scene.vehicle.arm).into_iter().map(v::<B>).collect();
+    Box::new(move |_t, s, _out| {
+        let lowest = feet
+            .iter()
+            .map(|p| B::vec3_to_array(s.x + s.r * *p)[2].to_f64_lossless())
+            .fold(f64::NEG_INFINITY, f64::max);
+        g.height - lowest <= clearance
+    })
 }
 
 /// The paper's position mode, keeping `e_i` on entry after the first

@@ -4,7 +4,7 @@
 use std::fmt;
 
 use crate::Scene;
-use scenarios::RunOutput;
+use scenarios::{RunOutput, Termination};
 
 /// A run's summary as text (`Display`): the scene's settings, the final
 /// errors, the extremes over every step, the health figures, the located
@@ -70,6 +70,18 @@ impl fmt::Display for RunReport<'_> {
             "  health over every step: max ‖RᵀR − I‖ = {:.2e}, Ψ in [{:.2e}, {:.3}]",
             out.max_orthogonality_error, out.psi_range.min, out.psi_range.max
         )?;
+        if !out.switches.is_empty() {
+            let sw: Vec<String> = out
+                .switches
+                .iter()
+                .map(|s| {
+                    let name = out.mode_names.get(s.to).copied().unwrap_or("?");
+                    format!("{name} at {:.3} s", s.t)
+                })
+                .collect();
+            writeln!(w, "  switches: {}", sw.join(", "))?;
+        }
+        contacts(w, out)?;
         if !out.event_times.is_empty() {
             let ev: Vec<String> = out
                 .event_times
@@ -86,5 +98,40 @@ impl fmt::Display for RunReport<'_> {
             out.wall,
             out.steps as f64 / out.wall.max(1e-9)
         )
+    }
+}
+
+/// The ground contacts' line (touchdowns, lift-offs, the fastest
+/// touchdown) and how the run ended when it did not run to its duration.
+fn contacts(w: &mut fmt::Formatter<'_>, out: &RunOutput) -> fmt::Result {
+    if !out.contacts.is_empty() {
+        let downs = out.contacts.iter().filter(|c| c.pushing).count();
+        write!(
+            w,
+            "  ground: {downs} touchdowns, {} lift-offs",
+            out.contacts.len() - downs
+        )?;
+        let fastest = out
+            .contacts
+            .iter()
+            .filter(|c| c.pushing)
+            .max_by(|a, b| a.normal_speed.total_cmp(&b.normal_speed));
+        match fastest {
+            Some(c) => writeln!(
+                w,
+                "; fastest touchdown {:.3} m/s (foot {} at {:.6} s)",
+                c.normal_speed, c.point, c.t
+            )?,
+            None => writeln!(w)?,
+        }
+    }
+    match out.termination {
+        Termination::Crashed { t, point, speed } => writeln!(
+            w,
+            "  crashed: foot {point} touched down at {speed:.3} m/s at {t:.6} s"
+        ),
+        Termination::StoppedBy { t } => writeln!(w, "  stopped by its condition at {t:.6} s"),
+        Termination::Diverged { what, t } => writeln!(w, "  diverged at {t:.6} s: {what:?}"),
+        _ => Ok(()),
     }
 }

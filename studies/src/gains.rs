@@ -97,7 +97,11 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
     // switch's time depends on the flight; every segment is then sampled
     // over the whole duration, which can only make the bounds larger).
     let seg_at = |t: f64| -> Vec<usize> {
-        if scene.plan.iter().any(|s| s.until_psi.is_some()) {
+        if scene
+            .plan
+            .iter()
+            .any(|s| s.until_psi.is_some() || s.until_clearance.is_some())
+        {
             return (0..scene.plan.len()).collect();
         }
         let k = scene
@@ -120,6 +124,17 @@ pub fn scene_bounds(scene: &Scene, psi1: f64, ex_max: f64) -> Result<SceneBounds
                         w_max = w_max.max(norm(w));
                     }
                 }
+                ModeKind::TakeOff | ModeKind::Hover | ModeKind::Land => {
+                    any_position = true;
+                    // A vertical move's acceleration does not depend on
+                    // where it starts: its profile sampled from t = 0
+                    // covers every start.
+                    if let Some(vert) = seg.vertical::<B>() {
+                        let a = vert.offset(t)[2];
+                        b1 = b1.max((m * a - m * g).abs());
+                    }
+                }
+                ModeKind::MotorsOff => {}
                 ModeKind::Position => {
                     any_position = true;
                     let Some(pr) = &seg.position else { continue };

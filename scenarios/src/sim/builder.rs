@@ -216,6 +216,25 @@ impl<'a, B: Backend, M: Method<B>> SimulationBuilder<'a, B, M> {
                     ),
                 ));
             }
+            let rate = self
+                .vehicle
+                .capabilities()
+                .contact
+                .map_or(0.0, |c| c.stiffest_rate());
+            // RK4's stability interval on the negative real axis ends at
+            // 2.785; 2.5 leaves room for the modes' coupling.
+            if name != "dopri" && rate * self.dt > 2.5 {
+                return Err(bad(
+                    "dt",
+                    format!(
+                        "{} s is too long for the ground contact: its stiffest mode runs at \
+                         {rate:.0}/s and `{name}` is stable only for dt below {:.2e} s \
+                         (or use dopri, which adapts)",
+                        self.dt,
+                        2.5 / rate
+                    ),
+                ));
+            }
         }
         Ok(())
     }

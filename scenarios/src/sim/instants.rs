@@ -117,8 +117,25 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         }
         emit.inside(out, sys, stepper, (t, before), (tc, &y_c))?;
         sense::piece(sys, stepper, (t, before), (tc, &y_c))?;
-        release(sys, bps.len(), forced);
         *y = y_c;
+        self.switch_here(stepper, tc, y, bps, forced)?;
+        Ok((tc, next_phase))
+    }
+
+    /// The switch to the next segment at `tc`, where the step has already
+    /// ended and its samples are out (state `y`): `bps` becomes the new
+    /// mode's breakpoints, a new held command under sampled control, the
+    /// figures and sample at `tc`, and a stepper restart.
+    pub(super) fn switch_here<I: Integrator<B, N>>(
+        &mut self,
+        stepper: &mut I,
+        tc: f64,
+        y: &mut State<B, N>,
+        bps: &mut Vec<Breakpoint<B>>,
+        forced: &mut bool,
+    ) -> Result<(), SimError> {
+        let (sys, emit, out) = (&mut *self.sys, &mut *self.emit, &mut *self.out);
+        release(sys, bps.len(), forced);
         if let Some(b) = switch_segment(sys, emit, out, tc, y, self.locate_events)? {
             *bps = b;
         }
@@ -132,7 +149,7 @@ impl<'c, 's, 'a, 'o, 'k, B: Backend, const N: usize> Cx<'c, 's, 'a, 'o, 'k, B, N
         track_figures(out, sys, tc, y)?;
         emit.exact(out, sys, tc, y)?;
         stepper.reset();
-        Ok((tc, next_phase))
+        Ok(())
     }
 
     /// At a checkpoint `t` (state `y`): the next segment when `switch_due`

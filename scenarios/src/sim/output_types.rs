@@ -263,6 +263,17 @@ pub enum Termination {
         /// The time of the last step, s.
         t: f64,
     },
+    /// A contact point touched down faster than its contact's crash speed
+    /// (`dynamics::Ground::crash_speed` for a ground): the run ends at the
+    /// located touchdown.
+    Crashed {
+        /// The touchdown's time, s.
+        t: f64,
+        /// The contact point (a foot's index).
+        point: usize,
+        /// Its speed into the ground, m/s.
+        speed: f64,
+    },
     /// The [`DivergenceGuard`](super::DivergenceGuard) tripped at `t`.
     Diverged {
         /// Which limit, with the value that passed it.

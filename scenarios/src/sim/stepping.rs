@@ -359,10 +359,9 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             sys,
             emit,
             stepper,
-            stop,
-            guard,
             r,
             y,
+            ..
         } = self;
         if any_crossed(&r.bps, before, y)
             && let Some(c) = crossing(sys, &r.bps, t, h, before, y)
@@ -375,46 +374,35 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             (r.seg_start, r.j) = (r.t, 0);
             return Ok(false);
         }
-        // A contact point starting or ceasing to push: its load switches,
-        // so the step is redone up to the change (bisection on redone
-        // steps) and the next one starts there.
-        if let Some(c) = sys.caps.contact {
-            let m0 = c.pushing(&before.body);
-            if c.pushing(&y.body) != m0 {
-                let holds = &mut |_: &mut ClosedLoop<'_, '_, B, N>, _, yy: &State<B, N>| {
-                    c.pushing(&yy.body) != m0
-                };
-                // Integrated on the side it came from: the loads switch at
-                // the change, and a stage past it would carry the switch
-                // into the located state.
-                c.hold(Some(m0));
-                let located = locate_condition(sys, *stepper, holds, (t, ts, h, before, y));
-                let (tc, _) = located.inspect_err(|_| c.hold(None))?;
-                let mut y_c = *before;
-                stepper.reset();
-                let redone = stepper.step(*sys, S::<B>::lit(t), S::<B>::lit(tc - t), &mut y_c);
-                c.hold(None);
-                redone.map_err(|e| sys.step_error(t, tc - t, e))?;
-                emit.inside(&mut r.out, sys, *stepper, (t, before), (tc, &y_c))?;
-                sense::piece(sys, *stepper, (t, before), (tc, &y_c))?;
-                let changed = m0 ^ c.pushing(&y_c.body);
-                for i in (0..64).filter(|i| changed & (1 << i) != 0) {
-                    r.out.contacts.push(super::ContactChange {
-                        t: tc,
-                        point: i,
-                        pushing: m0 & (1 << i) == 0,
-                        normal_speed: c.normal_speed(&y_c.body, i),
-                    });
-                }
-                **y = y_c;
-                stepper.reset();
-                // The change's time is taken as a constant in a dual run
-                // (no derivative through it).
-                (r.t, r.phase) = (tc, S::<B>::lit(0.0));
-                (r.seg_start, r.j) = (r.t, 0);
-                return Ok(false);
+        if let Some(end) = self.contact_change((t, ts, h), before)? {
+            // A condition that holds where a foot touched or let go is
+            // taken there: the step ends at the change, and a clearance
+            // condition turns true on the same crossing. (One that turned
+            // true earlier inside the split step is late by at most the
+            // split step.)
+            let Self {
+                sys,
+                emit,
+                stepper,
+                r,
+                y,
+                ..
+            } = self;
+            if !end && sys.has_condition() && !sys.estimating() && sys.condition_holds(r.t, y) {
+                let mut cx = Cx::new(sys, emit, &mut r.out, r.locate_events);
+                cx.switch_here(*stepper, r.t, y, &mut r.bps, &mut r.forced)?;
             }
+            return Ok(end);
         }
+        let Self {
+            sys,
+            emit,
+            stepper,
+            stop,
+            guard,
+            r,
+            y,
+        } = self;
         // A condition switch (Ψ below a threshold, a user predicate): when
         // it holds at the end of this step, bisect on redone steps for the
         // first instant and switch there.
@@ -463,6 +451,78 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             emit.exact(&mut r.out, sys, ts, y)?;
         }
         Ok(false)
+    }
+
+    /// A contact point starting or ceasing to push inside the step `(t, ts,
+    /// h)` from `before`: its load switches, so the step is redone up to
+    /// the change (bisection on redone steps) and the next one starts
+    /// there. `Some(true)`: a touchdown faster than the contact's crash
+    /// speed ended the run there; `Some(false)`: the step was split;
+    /// `None`: no change.
+    fn contact_change(
+        &mut self,
+        (t, ts, h): (f64, f64, f64),
+        before: &State<B, N>,
+    ) -> Result<Option<bool>, SimError> {
+        let Some(c) = self.sys.caps.contact else {
+            return Ok(None);
+        };
+        let m0 = c.pushing(&before.body);
+        if c.pushing(&self.y.body) == m0 {
+            return Ok(None);
+        }
+        let Self {
+            sys,
+            emit,
+            stepper,
+            r,
+            y,
+            ..
+        } = self;
+        let holds =
+            &mut |_: &mut ClosedLoop<'_, '_, B, N>, _, yy: &State<B, N>| c.pushing(&yy.body) != m0;
+        // Integrated on the side it came from: the loads switch at the
+        // change, and a stage past it would carry the switch into the
+        // located state.
+        c.hold(Some(m0));
+        let located = locate_condition(sys, *stepper, holds, (t, ts, h, before, y));
+        let (tc, _) = located.inspect_err(|_| c.hold(None))?;
+        let mut y_c = *before;
+        stepper.reset();
+        let redone = stepper.step(*sys, S::<B>::lit(t), S::<B>::lit(tc - t), &mut y_c);
+        c.hold(None);
+        redone.map_err(|e| sys.step_error(t, tc - t, e))?;
+        emit.inside(&mut r.out, sys, *stepper, (t, before), (tc, &y_c))?;
+        sense::piece(sys, *stepper, (t, before), (tc, &y_c))?;
+        let changed = m0 ^ c.pushing(&y_c.body);
+        let mut crash = None;
+        for i in (0..64).filter(|i| changed & (1 << i) != 0) {
+            let (pushing, speed) = (m0 & (1 << i) == 0, c.normal_speed(&y_c.body, i));
+            r.out.contacts.push(super::ContactChange {
+                t: tc,
+                point: i,
+                pushing,
+                normal_speed: speed,
+            });
+            if pushing && speed > c.crash_speed() && crash.is_none() {
+                crash = Some(Termination::Crashed {
+                    t: tc,
+                    point: i,
+                    speed,
+                });
+            }
+        }
+        **y = y_c;
+        stepper.reset();
+        // The change's time is taken as a constant in a dual run (no
+        // derivative through it).
+        (r.t, r.phase) = (tc, S::<B>::lit(0.0));
+        (r.seg_start, r.j) = (r.t, 0);
+        if let Some(end) = crash {
+            self.end_early(end)?;
+            return Ok(Some(true));
+        }
+        Ok(Some(false))
     }
 
     /// At the checkpoint the steps were heading for: a time switch, a new

@@ -17,6 +17,9 @@ pub struct GroundSpec {
     pub friction: f64,
     /// Slip speed below which friction is viscous, m/s.
     pub slip_speed: f64,
+    /// A touchdown faster than this, m/s, is a crash: the run ends there
+    /// (`inf`: never).
+    pub crash_speed: f64,
     /// Contact points in the body frame, m (+b3 down); empty: four feet
     /// 0.1 m below the centre of mass, under the ends of the arms on b1
     /// and b2 (`vehicle.arm` out).
@@ -33,6 +36,7 @@ impl Default for GroundSpec {
             damping: g.damping,
             friction: g.friction,
             slip_speed: g.slip_speed,
+            crash_speed: g.crash_speed,
             feet: Vec::new(),
         }
     }
@@ -47,6 +51,7 @@ impl GroundSpec {
             damping: self.damping,
             friction: self.friction,
             slip_speed: self.slip_speed,
+            crash_speed: self.crash_speed,
         }
     }
 

@@ -10,6 +10,7 @@ mod control;
 mod format;
 mod ground;
 mod locate;
+mod plan;
 mod references;
 mod sensing;
 mod validate;
@@ -19,6 +20,7 @@ pub use crate::error::SceneError;
 pub use format::{SCENE_FORMAT, missing_format_note};
 pub use ground::GroundSpec;
 use locate::{line_col, locate_error};
+pub use plan::{ModeKind, SegmentSpec, ThrustSpec};
 pub use references::{AttitudeRef, PositionRef};
 pub use sensing::{EstimatorKind, EstimatorSpec, SensorsSpec};
 pub use wind::WindSpec;
@@ -411,104 +413,6 @@ pub enum AccelModel {
     Nominal,
     /// g e3 − (f/m) R e3 only.
     NominalWithoutEstimate,
-}
-
-/// One flight-mode segment.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SegmentSpec {
-    /// `attitude` or `position`.
-    pub mode: ModeKind,
-    /// End time, s (absolute); absent for the last segment.
-    #[serde(default)]
-    pub until: Option<f64>,
-    /// Or: leave the segment when Ψ against its desired attitude drops
-    /// below this (0 < value < 2); the crossing is located to rounding.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub until_psi: Option<f64>,
-    /// Attitude reference (attitude mode).
-    #[serde(default)]
-    pub attitude: Option<AttitudeRef>,
-    /// Position reference (position mode; in attitude mode, the target of
-    /// the `pd-projection` thrust).
-    #[serde(default)]
-    pub position: Option<PositionRef>,
-    /// Thrust in attitude mode.
-    #[serde(default)]
-    pub thrust: ThrustSpec,
-}
-
-impl SegmentSpec {
-    /// Position mode towards `reference`, with no end.
-    pub fn position(reference: PositionRef) -> Self {
-        Self {
-            mode: ModeKind::Position,
-            until: None,
-            until_psi: None,
-            attitude: None,
-            position: Some(reference),
-            thrust: ThrustSpec::Hover,
-        }
-    }
-
-    /// Attitude mode tracking `reference` with `thrust`, with no end.
-    pub fn attitude(reference: AttitudeRef, thrust: ThrustSpec) -> Self {
-        Self {
-            mode: ModeKind::Attitude,
-            until: None,
-            until_psi: None,
-            attitude: Some(reference),
-            position: None,
-            thrust,
-        }
-    }
-
-    /// The same segment, ending at time `t`, s (absolute).
-    pub fn until(self, t: f64) -> Self {
-        Self {
-            until: Some(t),
-            ..self
-        }
-    }
-
-    /// The same segment, ending when Ψ drops below `psi`.
-    pub fn until_psi(self, psi: f64) -> Self {
-        Self {
-            until_psi: Some(psi),
-            ..self
-        }
-    }
-
-    /// The same attitude segment with `position` as the target of its
-    /// `pd-projection` thrust.
-    pub fn toward(self, position: PositionRef) -> Self {
-        Self {
-            position: Some(position),
-            ..self
-        }
-    }
-}
-
-/// Flight mode.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModeKind {
-    /// Attitude tracking (eqn:aM).
-    Attitude,
-    /// Position tracking (eqn:f, eqn:M).
-    Position,
-}
-
-/// Attitude-mode thrust.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ThrustSpec {
-    /// m g.
-    #[default]
-    Hover,
-    /// f = (k_x e_x + k_v e_v + m g e3 − m ẍ_d)·R e3 towards the segment's
-    /// position reference (the paper's flip).
-    PdProjection,
 }
 
 /// Integrator choice.

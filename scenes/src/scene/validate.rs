@@ -281,10 +281,11 @@ impl Scene {
                 ));
             }
         }
+        self.validate_clearance(k, seg)?;
         match seg.until {
-            // A Ψ-switched segment's own checks are above; its mode and
-            // references are checked below like any other's.
-            _ if seg.until_psi.is_some() => {}
+            // A condition-switched segment's own checks are above; its mode
+            // and references are checked below like any other's.
+            _ if seg.until_psi.is_some() || seg.until_clearance.is_some() => {}
             Some(u) if !(u.is_finite() && u > *last) => {
                 return Err((
                     "until",
@@ -323,7 +324,7 @@ impl Scene {
                     format!("plan[{k}] is `position` mode but has no `[plan.position]` reference"),
                 ));
             }
-            ModeKind::Position
+            ModeKind::Position | ModeKind::TakeOff | ModeKind::Hover | ModeKind::Land
                 if !matches!(
                     self.vehicle.kind,
                     VehicleKind::Quadrotor
@@ -335,15 +336,81 @@ impl Scene {
                 return Err((
                     "mode",
                     format!(
-                        "plan[{k}] is `position` mode but the vehicle `{}` cannot translate",
+                        "plan[{k}] is `{}` mode but the vehicle `{}` cannot translate",
+                        seg.mode.name(),
                         self.vehicle.kind.name()
                     ),
                 ));
             }
             _ => {}
         }
-        Ok(())
+        validate_phase(k, seg)
     }
+
+    /// Segment `k`'s `until_clearance`: finite and ≥ 0, over a `[ground]`,
+    /// alone, with a segment after it.
+    fn validate_clearance(
+        &self,
+        k: usize,
+        seg: &SegmentSpec,
+    ) -> Result<(), (&'static str, String)> {
+        let Some(c) = seg.until_clearance else {
+            return Ok(());
+        };
+        let key = "until_clearance";
+        let problem = if seg.until.is_some() || seg.until_psi.is_some() {
+            "give one of `until`, `until_psi` and `until_clearance`".to_string()
+        } else if !(c.is_finite() && c >= 0.0) {
+            format!("`until_clearance` = {c}: must be finite and ≥ 0 (m)")
+        } else if self.ground.is_none() {
+            "`until_clearance` needs a `[ground]` to measure from".to_string()
+        } else if k + 1 == self.plan.len() {
+            "is the last segment: `until_clearance` has nothing to switch to".to_string()
+        } else {
+            return Ok(());
+        };
+        Err((key, format!("plan[{k}] {problem}")))
+    }
+}
+
+/// Segment `k`'s take-off, hover, landing or motor cut: no reference of
+/// its own (it starts where it is entered), and `height`, `rate`, `ramp`
+/// only where they apply, each finite and positive.
+fn validate_phase(k: usize, seg: &SegmentSpec) -> Result<(), (&'static str, String)> {
+    let mode = seg.mode.name();
+    let phase = !matches!(seg.mode, ModeKind::Attitude | ModeKind::Position);
+    if phase && (seg.position.is_some() || seg.attitude.is_some()) {
+        return Err((
+            "mode",
+            format!(
+                "plan[{k}] is `{mode}` mode: it starts where it is entered and takes no reference"
+            ),
+        ));
+    }
+    let applies = [
+        ("height", seg.height, seg.mode == ModeKind::TakeOff),
+        (
+            "rate",
+            seg.rate,
+            matches!(seg.mode, ModeKind::TakeOff | ModeKind::Land),
+        ),
+        ("ramp", seg.ramp, seg.mode == ModeKind::Land),
+    ];
+    for (key, value, fits) in applies {
+        if value.is_some() && !fits {
+            return Err((
+                key,
+                format!("plan[{k}] `{key}` does not apply to `{mode}` mode"),
+            ));
+        }
+    }
+    if let Some(Err((key, value))) = seg.vertical::<lie::NalgebraF64>().map(|v| v.check()) {
+        return Err((
+            key,
+            format!("plan[{k}] `{key}` = {value}: must be finite and > 0"),
+        ));
+    }
+    Ok(())
 }
 
 /// Segment `k`'s reference parameters: a NaN here would surface only as a
