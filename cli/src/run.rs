@@ -84,7 +84,7 @@ pub struct RunArgs {
     /// Write an MCAP log (open in Foxglove with foxglove/layout.json).
     #[arg(long)]
     pub mcap: Option<PathBuf>,
-    /// Write SVG figures (Ψ, x vs x_d, Ω vs Ω_d, rotor thrusts) into DIR.
+    /// Write SVG figures (Ψ, x vs x_d, the path from above, Ω vs Ω_d, rotor thrusts) into DIR.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
     /// Run even when the step count exceeds 10⁹.

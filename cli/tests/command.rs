@@ -101,3 +101,44 @@ fn a_run_writes_the_bytes_the_library_writes() {
         "the command's CSV differs from write_csv's"
     );
 }
+
+#[test]
+fn a_mission_s_figures_draw_its_path_and_the_report_names_its_phases() {
+    let dir = scratch("mission-figures");
+    let out = geopid(&[
+        "run",
+        "mission-takeoff-waypoints-land",
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The switches by name, and the touchdown with its speed.
+    assert!(
+        text.contains("switches: position at 6.000 s, land at 13.000 s, motors-off at"),
+        "{text}"
+    );
+    assert!(text.contains("fastest touchdown 0.300 m/s"), "{text}");
+    // The top view: the flown path (one blue line) and the reference
+    // (red, drawn dash by dash: about a hundred over the loop's 7 m).
+    let svg = std::fs::read_to_string(dir.join("path.svg")).unwrap();
+    assert!(svg.contains("flown") && svg.contains("reference"));
+    assert!(svg.matches("stroke=\"#1F77B4\"").count() >= 2, "{svg}");
+    assert!(svg.matches("stroke=\"#D62728\"").count() > 50, "{svg}");
+    // A run whose reference never moves draws no path.
+    let still = scratch("hover-figures");
+    let out = geopid(&[
+        "run",
+        "hover-disturbed",
+        "--duration",
+        "1",
+        "--plot",
+        still.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert!(!still.join("path.svg").exists());
+}

@@ -30,13 +30,15 @@ mod mcap_chunks;
 mod mcap_file;
 mod paths;
 mod proto;
+mod reference_path;
 mod table_log;
 pub use csv::{CsvWriter, csv_header, csv_row, write_csv};
 pub use mcap_file::{
-    McapWriter, SENSOR_TOPICS, STATES_TOPIC, STATIC_TF_NS, TOPICS, WIND_TOPIC, msg,
-    quaternion_xyzw, write_mcap,
+    McapWriter, REFERENCE_TOPIC, SENSOR_TOPICS, STATES_TOPIC, STATIC_TF_NS, TOPICS, WIND_TOPIC,
+    msg, quaternion_xyzw, write_mcap,
 };
 pub use paths::{PathError, check_paths, is_stdout};
+pub use reference_path::{MAX_POINTS, ReferencePath};
 pub use table_log::{Table, write_tables};
 
 /// The CSV header, fixed.

@@ -10,6 +10,8 @@ use super::mcap_chunks::ChunkedMcap;
 use super::*;
 use scenarios::{MeasurementRecord, RunOutput, Sample, SwitchRecord};
 
+use crate::ReferencePath;
+
 /// Unit quaternion `(x, y, z, w)` (Foxglove's order, `w ≥ 0`) of a rotation
 /// matrix given by rows, through `lie::shepperd` (largest pivot, no
 /// cancellation near angle π).
@@ -28,6 +30,12 @@ pub const STATES_TOPIC: &str = "/vehicle/states";
 /// The topic of the wind at the vehicle (`foxglove.Vector3`, inertial,
 /// m/s), written from the first sample with a non-zero wind on.
 pub const WIND_TOPIC: &str = "/wind";
+
+/// The topic of the reference path: one `foxglove.SceneUpdate` at the
+/// run's start, a line strip per plan segment in frame `ned` (written when
+/// the run ends, so it is the path as flown, take-offs and landings
+/// anchored where they started).
+pub const REFERENCE_TOPIC: &str = "/reference/path";
 
 /// The topics of a run with sensors, each created at its first message:
 /// every IMU sample ([`msg::ImuReading`]), motion-capture frame
@@ -64,7 +72,8 @@ pub const TOPICS: [&str; 7] = [
 /// them.
 pub mod msg {
     pub use foxglove::messages::{
-        FrameTransform, Pose, PoseInFrame, Quaternion, Timestamp, Vector3,
+        Color, FrameTransform, LinePrimitive, Point3, Pose, PoseInFrame, Quaternion, SceneEntity,
+        SceneUpdate, Timestamp, Vector3, line_primitive,
     };
 
     /// `/errors`: Ψ, ‖e_x‖, e_x = x − x_d, Ω and Ω_d (or Ω_c).
@@ -489,6 +498,7 @@ pub struct McapWriter {
     batch: Batch,
     worker: Worker<Batch, (Mcap, u64)>,
     mode_names: Vec<&'static str>,
+    path_drawn: ReferencePath,
 }
 
 /// The longest simulated time between two `world → ned` transforms, ns.
@@ -535,6 +545,7 @@ impl McapWriter {
             batch: Batch::default(),
             worker,
             mode_names: Vec::new(),
+            path_drawn: ReferencePath::default(),
         })
     }
 
@@ -608,9 +619,23 @@ impl McapWriter {
         if !self.batch.items.is_empty() {
             self.send()?;
         }
-        let (mut w, messages) = self.worker.join()?;
+        let (mut w, mut messages) = self.worker.join()?;
         let path = self.path.clone();
         let e = |x: std::io::Error| err_io(&path, &x);
+        if let Some((t0, update)) = self.path_drawn.scene_update() {
+            let ns = nanos(t0);
+            let schema = add_schema(&mut w, msg::SceneUpdate::get_schema()).map_err(e)?;
+            let meta = BTreeMap::new();
+            let ch = w
+                .add_channel(schema, REFERENCE_TOPIC, "protobuf", &meta)
+                .map_err(e)?;
+            let mut data = Vec::new();
+            update
+                .encode(&mut data)
+                .map_err(|x| e(std::io::Error::other(x.to_string())))?;
+            w.message(ch, 0, ns, &data).map_err(e)?;
+            messages += 1;
+        }
         if !warnings.is_empty() {
             let metadata = warnings
                 .iter()
@@ -717,6 +742,7 @@ impl Sink for McapWriter {
             };
             self.put_encoded(SENSOR_SLOTS[4], s.t, &pose)?;
         }
+        self.path_drawn.push(s);
         self.batch.samples.push(Fixed::of(s));
         self.batch.extra.extend_from_slice(&s.rotors);
         self.batch.extra.extend_from_slice(&s.vehicle_states);

@@ -521,3 +521,60 @@ fn tables_read_back_from_the_log() {
     assert!(!dir.join("bad.mcap").exists() && !dir.join("bad.mcap.partial").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_reference_path_is_a_line_strip_per_segment_in_the_log() {
+    use foxglove::Decode;
+    use foxglove::messages::{SceneUpdate, line_primitive};
+    let scene = builtin::mission_takeoff_waypoints_land();
+    let out = run(&scene, RunOptions::default()).unwrap();
+    let dir = tmpdir("path");
+    let path = dir.join("mission.mcap");
+    write_mcap(&path, &out).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let found: Vec<_> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(Result::unwrap)
+        .filter(|m| m.channel.topic == logs::REFERENCE_TOPIC)
+        .collect();
+    assert_eq!(found.len(), 1);
+    let m = &found[0];
+    assert_eq!(m.log_time, 0, "shown from the start");
+    assert_eq!(
+        m.channel.schema.as_ref().unwrap().name,
+        "foxglove.SceneUpdate"
+    );
+    let update = SceneUpdate::decode(&m.data[..]).unwrap();
+    // Take-off, the loop and the landing draw a line each; motors-off
+    // holds no position and draws none.
+    let ids: Vec<_> = update.entities.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(ids, ["segment 0", "segment 1", "segment 2"]);
+    for (k, e) in update.entities.iter().enumerate() {
+        assert_eq!(e.frame_id, "ned");
+        let line = &e.lines[0];
+        assert_eq!(line.r#type, line_primitive::Type::LineStrip as i32);
+        // Every point is a sample's x_d in that segment, in order, the
+        // first one first.
+        let xd: Vec<[f64; 3]> = out
+            .samples
+            .iter()
+            .filter(|s| s.segment == k)
+            .map(|s| s.xd)
+            .collect();
+        let mut at = 0;
+        for p in &line.points {
+            let q = [p.x, p.y, p.z];
+            at += xd[at..]
+                .iter()
+                .position(|x| *x == q)
+                .expect("a sample's x_d");
+        }
+        let p0 = &line.points[0];
+        assert_eq!([p0.x, p0.y, p0.z], xd[0]);
+    }
+    // The take-off climbs 1 m straight up from where the vehicle rested.
+    let up = &update.entities[0].lines[0].points;
+    let (a, b) = (&up[0], up.last().unwrap());
+    assert!((a.z - b.z - 1.0).abs() < 1e-9 && a.x == b.x && a.y == b.y);
+    std::fs::remove_dir_all(dir).ok();
+}

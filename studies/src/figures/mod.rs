@@ -52,8 +52,9 @@ fn at(path: &Path) -> impl Fn(String) -> FigureError + '_ {
 }
 
 /// Writes `psi.svg`, `position.svg` (when the run moves), `omega.svg`,
-/// `rotors.svg` (when the vehicle reports rotor thrusts) and, for a run
-/// in wind, `wind.svg` into `dir` (created if needed), from the run's
+/// `rotors.svg` (when the vehicle reports rotor thrusts), `path.svg` (the
+/// path from above with its reference, when the reference moves) and, for
+/// a run in wind, `wind.svg` into `dir` (created if needed), from the run's
 /// recorded samples; returns the files written.
 pub fn run(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf>, FigureError> {
     run::figures(dir, scene, out).map_err(at(dir))

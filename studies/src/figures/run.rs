@@ -114,8 +114,76 @@ fn components(
         .collect()
 }
 
-/// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg` and, for a
-/// run in wind, `wind.svg` into `dir`.
+/// The path seen from above (x1 across, x2 up the page, equal scales): the
+/// flown one solid, the reference (`logs::ReferencePath`, a line per plan
+/// segment) dashed.
+fn top_view(path: &Path, title: &str, s: &[Sample]) -> Result<(), String> {
+    let mut reference = logs::ReferencePath::default();
+    s.iter().for_each(|x| reference.push(x));
+    let lines = reference.lines();
+    let flown: Vec<(f64, f64)> = s.iter().map(|x| (x.x[0], x.x[1])).collect();
+    let all = flown.iter().copied().chain(
+        lines
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| (q[0], q[1]))),
+    );
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for (a, b) in all {
+        (lo[0], hi[0]) = (lo[0].min(a), hi[0].max(a));
+        (lo[1], hi[1]) = (lo[1].min(b), hi[1].max(b));
+    }
+    // One scale on both axes, the longer span padded by 5 %.
+    let half = 0.55 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-3);
+    let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let shown = (600, 470);
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let (plot, side) = figure::canvas(path, shown, 135)?;
+    let mut c = ChartBuilder::on(&plot)
+        .caption(title, figure::font(17))
+        .margin(figure::px(10))
+        .x_label_area_size(figure::px(40))
+        .y_label_area_size(figure::px(64))
+        .build_cartesian_2d(
+            (mid[0] - half)..(mid[0] + half),
+            (mid[1] - half)..(mid[1] + half),
+        )
+        .map_err(|e| err(&e))?;
+    figure::axes(&mut c, "x1 [m]", "x2 [m]", &figure::tick, &figure::tick, 12)
+        .map_err(|e| err(&e))?;
+    c.draw_series(LineSeries::new(flown, figure::line(COLORS[0], 2)))
+        .map_err(|e| err(&e))?;
+    let (len, gap) = figure::DASHES[1];
+    for (_, points) in &lines {
+        let pts = points.iter().map(|q| (q[0], q[1]));
+        let style = figure::line(COLORS[1], 2);
+        c.draw_series(DashedLineSeries::new(
+            pts,
+            figure::px(len),
+            figure::px(gap),
+            style,
+        ))
+        .map_err(|e| err(&e))?;
+    }
+    let entry = |label: &str, color, dash| figure::Entry {
+        label: label.into(),
+        color,
+        dash,
+        dots: false,
+        line: true,
+    };
+    let entries = [
+        entry("flown", COLORS[0], 0),
+        entry("reference", COLORS[1], 1),
+    ];
+    figure::legend(&side, &entries, 40)?;
+    drop(c);
+    drop(side);
+    figure::finish(plot, path, shown)
+}
+
+/// Writes `psi.svg`, `position.svg`, `omega.svg`, `rotors.svg`, for a run
+/// with a moving position reference `path.svg`, and for a run in wind
+/// `wind.svg` into `dir`.
 pub(super) fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let s = &out.samples;
@@ -161,6 +229,11 @@ pub(super) fn figures(dir: &Path, scene: &Scene, out: &RunOutput) -> Result<Vec<
         let series = components(s, 3, "w", |x, k| x.wind[k]);
         let title = "wind at the vehicle (inertial, e3 down)".into();
         draw("wind.svg", title, "w [m/s]", &series)?;
+    }
+    if s.windows(2).any(|w| w[0].xd != w[1].xd) {
+        let p = dir.join("path.svg");
+        top_view(&p, &format!("{name}: path from above (e3 down)"), s)?;
+        written.push(p);
     }
     Ok(written)
 }
