@@ -374,7 +374,9 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
             (r.seg_start, r.j) = (r.t, 0);
             return Ok(false);
         }
-        if let Some(end) = self.contact_change((t, ts, h), before)? {
+        if self.sys.caps.contact.is_some()
+            && let Some(end) = self.contact_change((t, ts, h), before)?
+        {
             // A condition that holds where a foot touched or let go is
             // taken there: the step ends at the change, and a clearance
             // condition turns true on the same crossing. (One that turned
@@ -459,6 +461,7 @@ impl<B: Backend, const N: usize, I: Integrator<B, N>> Loop<'_, '_, '_, '_, '_, '
     /// there. `Some(true)`: a touchdown faster than the contact's crash
     /// speed ended the run there; `Some(false)`: the step was split;
     /// `None`: no change.
+    #[inline(never)]
     fn contact_change(
         &mut self,
         (t, ts, h): (f64, f64, f64),
