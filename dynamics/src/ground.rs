@@ -8,7 +8,9 @@
 //! `δ̇ = e3·(v + R (Ω × p))`. A foot in the ground is pushed out along
 //! `−e3` by `N = max(0, k δ + c δ̇)` (never pulled in: the damper lets go
 //! as the foot lifts), and its slip `u` (the foot's velocity in the plane)
-//! is opposed by `μ N u / √(|u|² + s²)`.
+//! is opposed by `μ N u / √(|u|² + s²)`. Below the slip speed `s` the
+//! friction is viscous, so a steady sideways force `F < μ N` on a foot
+//! makes it creep at about `F s / (μ N)` instead of holding it still.
 //!
 //! The contact is stiff: its heave frequency `√(n k / m)` is hundreds of
 //! rad/s for the paper's quadrotor, and rocking on the feet, damped by the

@@ -216,13 +216,14 @@ pub fn waypoints_square_climb() -> Scene {
 
 /// A whole flight from the ground and back: resting on four feet at the
 /// start, a take-off of 1 m at 0.5 m/s, a minimum-snap loop around a 1.5 m
-/// square at 1 m/s, a landing at 0.3 m/s, and the motors cut at the
-/// touchdown; a touchdown faster than 0.5 m/s would end the run as a crash.
+/// square at 1 m/s, a landing at 0.3 m/s, and the motors cut once every
+/// foot is down; a touchdown faster than 0.5 m/s would end the run as a
+/// crash.
 /// RK4 at 1 ms (the contact's frequency is 730 rad/s).
 pub fn mission_takeoff_waypoints_land() -> Scene {
     let mut s = base(
         "mission-takeoff-waypoints-land",
-        "Take-off from the ground, a minimum-snap loop around a square, landing, motors off at touchdown.",
+        "Take-off from the ground, a minimum-snap loop around a square, landing, motors off once every foot is down.",
         20.0,
     );
     let ground = GroundSpec {

@@ -399,7 +399,10 @@ pub fn controller_gains<B: Backend>(
 /// The scene's plan as [`Mode`](controllers::Mode)s. The paper's modes share the integral
 /// register `[e_I, e_i]`; the first position segment zeroes `e_i` when
 /// entered, later ones keep it (the paper's "when position mode first
-/// starts").
+/// starts"), unless a take-off, hover or landing came first (position
+/// flight has started: the disturbance `e_i` has learnt still acts). A
+/// take-off zeroes `e_i` wherever it is; a take-off, hover or landing that
+/// starts the plan is anchored at the initial state.
 pub fn plan<B: Backend>(scene: &Scene, vehicle: &dyn Vehicle<B>) -> Vec<Segment<'static, B>> {
     plan_with(scene, vehicle, None, Seeds::NONE)
 }
@@ -496,17 +499,18 @@ fn plan_with<B: Backend>(
         .collect()
 }
 
-/// Whether the lowest foot of the scene's ground is at most `clearance`
-/// above it (validation makes sure the ground is there).
+/// Whether every foot is at most `clearance` above the scene's ground
+/// (validation makes sure the ground is there): the highest foot decides,
+/// so a vehicle that lands tilted is down when its last foot is.
 fn clearance_below<B: Backend>(scene: &Scene, clearance: f64) -> scenarios::Condition<'static, B> {
     let g = scene.ground.clone().unwrap_or_default();
     let feet: Vec<V3<B>> = g.feet(scene.vehicle.arm).into_iter().map(v::<B>).collect();
     Box::new(move |_t, s, _out| {
-        let lowest = feet
+        let highest = feet
             .iter()
             .map(|p| B::vec3_to_array(s.x + s.r * *p)[2].to_f64_lossless())
-            .fold(f64::NEG_INFINITY, f64::max);
-        g.height - lowest <= clearance
+            .fold(f64::INFINITY, f64::min);
+        g.height - highest <= clearance
     })
 }
 

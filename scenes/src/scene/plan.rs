@@ -30,8 +30,8 @@ pub struct SegmentSpec {
     /// Thrust in attitude mode.
     #[serde(default)]
     pub thrust: ThrustSpec,
-    /// Or: leave the segment when the lowest foot is at most this far
-    /// above the `[ground]`, m (0: at the touchdown); located like
+    /// Or: leave the segment when every foot is at most this far above
+    /// the `[ground]`, m (0: when the last foot touches); located like
     /// `until_psi`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub until_clearance: Option<f64>,
@@ -115,8 +115,8 @@ impl SegmentSpec {
         }
     }
 
-    /// The same segment, ending when the lowest foot is at most
-    /// `clearance` above the ground, m.
+    /// The same segment, ending when every foot is at most `clearance`
+    /// above the ground, m.
     pub fn until_clearance(self, clearance: f64) -> Self {
         Self {
             until_clearance: Some(clearance),
