@@ -7,8 +7,9 @@
 
 use geopid::scenes::builtin;
 use geopid::scenes::scene::{
-    AttitudeRef, EstimatorKind, EstimatorSpec, GroundSpec, MultirotorSpec, PositionRef, Preset,
-    Scene, SegmentSpec, SensorsSpec, ThrustSpec, WindSpec,
+    AttitudeRef, BaroTable, EstimatorKind, EstimatorSpec, GpsTable, GroundSpec, ImuTable,
+    MocapTable, MultirotorSpec, PositionRef, Preset, Scene, SegmentSpec, SensorsSpec, SpikeTable,
+    ThrustSpec, TriadTable, WindSpec,
 };
 
 const CHAPTER: &str = include_str!("../guide/02-scenes.md");
@@ -43,11 +44,52 @@ fn populated() -> Scene {
     });
     s.seed = 7;
     s.control.loop_rates = Some("crazyflie".into());
+    let triad = TriadTable {
+        noise_density: Some(1.0),
+        random_walk: Some(1.0),
+        turn_on_bias: Some(1.0),
+        scale_misalignment: Some([[0.0; 3]; 3]),
+        range: Some(1.0),
+    };
+    let spike = SpikeTable {
+        probability: 0.1,
+        max: 1.0,
+    };
     s.sensors = Some(SensorsSpec {
         preset: "rotorpy".into(),
         noise_scale: 1.0,
         mocap_latency: Some(0.01),
         mocap_rate: Some(100.0),
+        imu: Some(ImuTable {
+            rate: Some(1.0),
+            position: Some([0.0; 3]),
+            mounting: Some([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+            accel: Some(triad.clone()),
+            gyro: Some(triad),
+        }),
+        mocap: Some(MocapTable {
+            position_sigma: Some(1.0),
+            velocity_sigma: Some(1.0),
+            attitude_sigma: Some(1.0),
+            rate_sigma: Some(1.0),
+            dropout: Some(0.1),
+            velocity_spike: Some(spike.clone()),
+            rate_spike: Some(spike),
+            ..MocapTable::default()
+        }),
+        gps: Some(GpsTable {
+            rate: Some(1.0),
+            delay: Some(1.0),
+            horizontal_sigma: Some(1.0),
+            vertical_sigma: Some(1.0),
+            velocity_sigma: Some(1.0),
+        }),
+        baro: Some(BaroTable {
+            rate: Some(1.0),
+            sigma: Some(1.0),
+            random_walk: Some(1.0),
+            turn_on_bias: Some(1.0),
+        }),
     });
     s.estimator = Some(EstimatorSpec {
         kind: EstimatorKind::Mocap,

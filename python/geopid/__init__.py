@@ -116,6 +116,8 @@ class Result:
     ``vehicle_states`` (n, k), ``segment`` (n,) int. Lists: ``mode`` (the
     active mode's name per sample), ``mode_names`` (per plan segment),
     ``switches`` ((t, from, to) tuples), ``event_times`` ((t, component)),
+    ``contacts`` ((t, foot, touchdown, speed into the ground) for each foot
+    touching or leaving the ground, located inside the step),
     ``warnings``, ``health`` (numerical-health warnings, empty when the
     run is sound). Figures: ``steps``, ``evaluations``, ``max_thrust``,
     ``max_rotor``, ``wall`` (s), ``max_orthogonality_error``,

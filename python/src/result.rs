@@ -95,6 +95,12 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bou
     d.set_item("switches", switches)?;
     let events: Vec<(f64, usize)> = out.event_times.iter().map(|e| (e.t, e.component)).collect();
     d.set_item("event_times", events)?;
+    let contacts: Vec<(f64, usize, bool, f64)> = out
+        .contacts
+        .iter()
+        .map(|c| (c.t, c.point, c.pushing, c.normal_speed))
+        .collect();
+    d.set_item("contacts", contacts)?;
     d.set_item("steps", out.steps)?;
     d.set_item("evaluations", out.evaluations)?;
     d.set_item("max_thrust", out.max_thrust)?;

@@ -732,3 +732,31 @@ def test_minsnap_returns_its_pieces_and_names_bad_input():
     assert e.value.field == "times[2]"
     with pytest.raises(ValueError, match="at most one"):
         geopid.minsnap(square, times=[0, 1, 2, 3], mean_speed=1.0)
+
+
+def test_a_mission_lists_its_contacts_and_a_hard_drop_is_a_crash():
+    r = geopid.run("mission-takeoff-waypoints-land")
+    assert r.termination == {"kind": "completed", "t": None}
+    ups = [c for c in r.contacts if not c[2]]
+    downs = [c for c in r.contacts if c[2]]
+    # The four feet let go early in the take-off; the landing comes down
+    # at its 0.3 m/s descent rate, under the scene's 0.5 m/s crash speed.
+    assert len(ups) >= 4 and all(c[0] < 0.01 for c in ups[:4])
+    assert abs(downs[0][3] - 0.3) < 3e-3 and all(c[3] < 0.5 for c in downs)
+    # Dropped from 0.2 m with the motors off: free fall, so the touchdown
+    # is at t = sqrt(2h/g) and sqrt(2gh) m/s, above the default 1 m/s.
+    drop = geopid.load_scene({
+        "name": "drop", "duration": 1.0,
+        "initial": {"x": [0.0, 0.0, -0.3]},
+        "ground": {},
+        "plan": [{"mode": "motors-off"}],
+        "integrator": {"kind": "rk4", "dt": 0.001},
+    })
+    r = geopid.run(drop)
+    term = r.termination
+    assert term["kind"] == "crashed" and 0 <= term["point"] < 4
+    g, h = 9.81, 0.2
+    # Located to the bisection's tolerance; RK4 is exact on free fall.
+    assert abs(term["t"] - math.sqrt(2 * h / g)) < 1e-9, term
+    assert abs(term["speed"] - math.sqrt(2 * g * h)) < 1e-9, term
+    assert r.t[-1] == term["t"]

@@ -108,6 +108,7 @@ impl Overrides {
                 noise_scale: 1.0,
                 mocap_latency: None,
                 mocap_rate: None,
+                ..crate::scene::SensorsSpec::default()
             });
         }
         if let Some(kind) = self.estimator {
@@ -173,6 +174,7 @@ mod tests {
             noise_scale: 1.0,
             mocap_latency: Some(-0.5),
             mocap_rate: None,
+            ..crate::scene::SensorsSpec::default()
         });
         let e = Overrides::default().apply(late).unwrap_err();
         assert_eq!(e.key.as_deref(), Some("sensors.mocap_latency"));

@@ -24,6 +24,7 @@ fn flip(sensed: bool) -> Scene {
             noise_scale: 1.0,
             mocap_latency: Some(0.0),
             mocap_rate: None,
+            ..SensorsSpec::default()
         });
         s.estimator = Some(EstimatorSpec {
             kind: EstimatorKind::Mocap,

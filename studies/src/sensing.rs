@@ -74,6 +74,7 @@ impl Sweep {
             noise_scale,
             mocap_latency: Some(latency),
             mocap_rate: None,
+            ..SensorsSpec::default()
         });
         s.estimator = Some(EstimatorSpec {
             kind: EstimatorKind::Mocap,
@@ -164,6 +165,7 @@ impl LoopSweep {
                         noise_scale: k,
                         mocap_latency: None,
                         mocap_rate: None,
+                        ..SensorsSpec::default()
                     });
                     s.estimator = Some(EstimatorSpec {
                         kind: EstimatorKind::Mocap,

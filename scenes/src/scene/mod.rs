@@ -13,6 +13,7 @@ mod locate;
 mod plan;
 mod references;
 mod sensing;
+mod sensor_tables;
 mod validate;
 mod wind;
 
@@ -23,6 +24,7 @@ use locate::{line_col, locate_error};
 pub use plan::{ModeKind, SegmentSpec, ThrustSpec};
 pub use references::{AttitudeRef, PositionRef};
 pub use sensing::{EstimatorKind, EstimatorSpec, SensorsSpec};
+pub use sensor_tables::{BaroTable, GpsTable, ImuTable, MocapTable, SpikeTable, TriadTable};
 pub use wind::WindSpec;
 
 /// A complete scene. Every field has the same name in TOML; unknown keys are

@@ -2,12 +2,18 @@
 
 use serde::{Deserialize, Serialize};
 
-/// `[sensors]`: the sensors the vehicle carries, from a named suite.
+use super::sensor_tables::{BaroTable, GpsTable, ImuTable, MocapTable, key_of};
+
+/// `[sensors]`: the sensors the vehicle carries, from a named suite, each
+/// adjusted by a table of its own (`[sensors.imu]`, `[sensors.mocap]`,
+/// `[sensors.gps]`, `[sensors.baro]`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorsSpec {
     /// The suite: `rotorpy`, `crazyflie`, `mpu9250` or `fdcl-gazebo`
-    /// (`sensors::SensorSuite::preset` says what each holds).
+    /// (`sensors::SensorSuite::preset` says what each holds); empty: only
+    /// the sensors the tables give.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub preset: String,
     /// Every noise, bias, walk and spike of the suite times this (0: a
     /// noiseless suite; 1 by default).
@@ -19,10 +25,48 @@ pub struct SensorsSpec {
     /// The motion capture's rate, Hz, in place of the preset's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mocap_rate: Option<f64>,
+    /// The IMU's settings over the preset's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub imu: Option<ImuTable>,
+    /// The motion capture's settings over the preset's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mocap: Option<MocapTable>,
+    /// The GPS's settings over the preset's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gps: Option<GpsTable>,
+    /// The barometer's settings over the preset's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baro: Option<BaroTable>,
 }
 
 fn one() -> f64 {
     1.0
+}
+
+impl Default for SensorsSpec {
+    /// No preset, no tables, noise scale 1.
+    fn default() -> Self {
+        Self {
+            preset: String::new(),
+            noise_scale: 1.0,
+            mocap_latency: None,
+            mocap_rate: None,
+            imu: None,
+            mocap: None,
+            gps: None,
+            baro: None,
+        }
+    }
+}
+
+impl SensorsSpec {
+    /// The suite `preset` as it is.
+    pub fn preset(preset: &str) -> Self {
+        Self {
+            preset: preset.into(),
+            ..Self::default()
+        }
+    }
 }
 
 /// `[estimator]`: what the flight modes read in place of the true state.
@@ -70,18 +114,45 @@ impl std::str::FromStr for EstimatorKind {
 }
 
 impl SensorsSpec {
-    /// The suite it names, scaled and overridden; an error naming the key
-    /// and the value otherwise.
+    /// The suite it names, its sensors adjusted by their tables, then
+    /// scaled by `noise_scale` (the tables' noises too) and given the
+    /// motion capture's `mocap_latency` and `mocap_rate`; an error naming
+    /// the key and the value otherwise.
     pub fn suite(&self) -> Result<sensors::SensorSuite, (&'static str, String)> {
-        let Some(suite) = sensors::SensorSuite::preset(&self.preset) else {
-            return Err((
-                "sensors.preset",
-                format!(
-                    "sensors `preset` = \"{}\": expected one of {}",
-                    self.preset,
-                    sensors::SensorSuite::PRESETS.join(", ")
-                ),
-            ));
+        let mut suite = if self.preset.is_empty() {
+            if [
+                self.imu.is_some(),
+                self.mocap.is_some(),
+                self.gps.is_some(),
+                self.baro.is_some(),
+            ]
+            .iter()
+            .all(|x| !x)
+            {
+                return Err((
+                    "sensors.preset",
+                    "`[sensors]` names no sensor: give a `preset` or a sensor table \
+                     (`[sensors.imu]`, `[sensors.mocap]`, `[sensors.gps]`, `[sensors.baro]`)"
+                        .into(),
+                ));
+            }
+            sensors::SensorSuite {
+                imu: None,
+                mocap: None,
+                gps: None,
+                baro: None,
+            }
+        } else {
+            sensors::SensorSuite::preset(&self.preset).ok_or_else(|| {
+                (
+                    "sensors.preset",
+                    format!(
+                        "sensors `preset` = \"{}\": expected one of {}",
+                        self.preset,
+                        sensors::SensorSuite::PRESETS.join(", ")
+                    ),
+                )
+            })?
         };
         if !(self.noise_scale.is_finite() && self.noise_scale >= 0.0) {
             return Err((
@@ -92,38 +163,90 @@ impl SensorsSpec {
                 ),
             ));
         }
+        if let Some(t) = &self.imu {
+            suite.imu = Some(t.apply(suite.imu));
+        }
+        if let Some(t) = &self.mocap {
+            suite.mocap = Some(t.apply(suite.mocap));
+        }
+        if let Some(t) = &self.gps {
+            suite.gps = Some(t.apply(suite.gps));
+        }
+        if let Some(t) = &self.baro {
+            suite.baro = Some(t.apply(suite.baro));
+        }
         let mut suite = suite.noise_scaled(self.noise_scale);
-        if self.mocap_latency.is_some() || self.mocap_rate.is_some() {
-            let Some(m) = suite.mocap.as_mut() else {
+        self.mocap_overrides(&mut suite)?;
+        self.check(&suite)?;
+        Ok(suite)
+    }
+
+    /// `mocap_latency` and `mocap_rate` on the suite's motion capture
+    /// (not both one of them and its key in `[sensors.mocap]`).
+    fn mocap_overrides(
+        &self,
+        suite: &mut sensors::SensorSuite,
+    ) -> Result<(), (&'static str, String)> {
+        let table = self.mocap.clone().unwrap_or_default();
+        for (key, given, in_table) in [
+            ("sensors.mocap_latency", self.mocap_latency, table.latency),
+            ("sensors.mocap_rate", self.mocap_rate, table.rate),
+        ] {
+            if given.is_some() && in_table.is_some() {
                 return Err((
-                    "sensors.mocap_latency",
-                    format!("the preset `{}` has no motion capture to set", self.preset),
+                    key,
+                    format!("`{key}` and its key in `[sensors.mocap]` both given: give one"),
                 ));
-            };
-            if let Some(l) = self.mocap_latency {
-                m.latency = l;
-            }
-            if let Some(r) = self.mocap_rate {
-                m.rate = r;
             }
         }
-        suite.validate().map_err(|e| {
-            // The two settings a scene gives itself are reported at their
-            // own keys; the rest come from the preset.
+        if self.mocap_latency.is_none() && self.mocap_rate.is_none() {
+            return Ok(());
+        }
+        let Some(m) = suite.mocap.as_mut() else {
+            return Err((
+                "sensors.mocap_latency",
+                format!("the preset `{}` has no motion capture to set", self.preset),
+            ));
+        };
+        if let Some(l) = self.mocap_latency {
+            m.latency = l;
+        }
+        if let Some(r) = self.mocap_rate {
+            m.rate = r;
+        }
+        Ok(())
+    }
+
+    /// Each sensor's settings in range, a fault reported at its scene key.
+    fn check(&self, suite: &sensors::SensorSuite) -> Result<(), (&'static str, String)> {
+        let named = |sensor: &str, e: sensors::SensorError| {
             let key = match &e {
                 sensors::SensorError::Setting {
                     field: "mocap.latency",
                     ..
-                } => "sensors.mocap_latency",
+                } if self.mocap_latency.is_some() => "sensors.mocap_latency",
                 sensors::SensorError::Setting {
                     field: "mocap.rate",
                     ..
-                } => "sensors.mocap_rate",
+                } if self.mocap_rate.is_some() => "sensors.mocap_rate",
+                sensors::SensorError::Setting { field, .. } => key_of(sensor, field),
                 _ => "sensors",
             };
-            (key, format!("sensors: {e}"))
-        })?;
-        Ok(suite)
+            (key, format!("{key}: {e}"))
+        };
+        if let Some(s) = &suite.imu {
+            s.validate().map_err(|e| named("imu", e))?;
+        }
+        if let Some(s) = &suite.mocap {
+            s.validate().map_err(|e| named("", e))?;
+        }
+        if let Some(s) = &suite.gps {
+            s.validate().map_err(|e| named("", e))?;
+        }
+        if let Some(s) = &suite.baro {
+            s.validate().map_err(|e| named("", e))?;
+        }
+        Ok(())
     }
 }
 
