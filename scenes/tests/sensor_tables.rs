@@ -108,6 +108,17 @@ fn bad_sensor_values_name_their_key_and_value() {
             "sensors.preset",
             "names no sensor",
         ),
+        // Longer than the 0.5 s run: nothing would arrive.
+        (
+            "[sensors]\npreset = \"rotorpy\"\nmocap_latency = 5.0",
+            "sensors.mocap_latency",
+            "5 s is not shorter than the run",
+        ),
+        (
+            "[sensors.gps]\ndelay = 0.5",
+            "sensors.gps.delay",
+            "0.5 s is not shorter",
+        ),
         // A misspelt key: the reader's error, at its line.
         (
             "[sensors.imu]\nrat = 100.0",

@@ -217,6 +217,43 @@ impl SensorsSpec {
         Ok(())
     }
 
+    /// The motion capture's latency and the GPS's delay shorter than the
+    /// run (else nothing would arrive), reported at the key that set them.
+    fn arrives_within(
+        &self,
+        suite: &sensors::SensorSuite,
+        duration: f64,
+    ) -> Result<(), (&'static str, String)> {
+        let mocap_key = if self.mocap_latency.is_some() {
+            "sensors.mocap_latency"
+        } else if self.mocap.as_ref().is_some_and(|m| m.latency.is_some()) {
+            "sensors.mocap.latency"
+        } else {
+            "sensors.preset"
+        };
+        let gps_key = if self.gps.as_ref().is_some_and(|g| g.delay.is_some()) {
+            "sensors.gps.delay"
+        } else {
+            "sensors.preset"
+        };
+        let late = [
+            (mocap_key, suite.mocap.map(|m| m.latency)),
+            (gps_key, suite.gps.map(|g| g.delay)),
+        ];
+        for (key, wait) in late {
+            if let Some(w) = wait.filter(|w| *w >= duration) {
+                return Err((
+                    key,
+                    format!(
+                        "{key}: a wait of {w} s is not shorter than the run ({duration} s): \
+                         nothing would arrive"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Each sensor's settings in range, a fault reported at its scene key.
     fn check(&self, suite: &sensors::SensorSuite) -> Result<(), (&'static str, String)> {
         let named = |sensor: &str, e: sensors::SensorError| {
@@ -259,6 +296,9 @@ impl super::Scene {
             Some(s) => Some(s.suite()?),
             None => None,
         };
+        if let (Some(spec), Some(suite)) = (&self.sensors, &suite) {
+            spec.arrives_within(suite, self.duration)?;
+        }
         let Some(e) = &self.estimator else {
             return Ok(());
         };
