@@ -16,6 +16,8 @@
 //!   ordinary ones.
 //! - SO(3) tangents are rotation vectors `φ` (3); SE(3) tangents are
 //!   twists `(ρ, φ)`, translation first (6), as [`Twist`] orders them;
+//!   SE₂(3) tangents are `(ρ, ν, φ)`, position, velocity, rotation (9),
+//!   as [`ExtTwist`] orders them;
 //!   the rigid-body state [`RigidState`](crate::RigidState) (SO(3) × ℝ⁹)
 //!   has `(φ, x, v, Ω)` (12).
 //!
@@ -48,10 +50,13 @@
 //! assert!(p[(0, 0)] < 0.0101 && p[(0, 0)] > 0.0);
 //! ```
 
-use num_traits::Zero;
+use num_traits::{One, Zero};
 
 use crate::backend::ops;
 use crate::se3::{Matrix6, Se3, Twist, se3_left_jacobian, se3_left_jacobian_inv};
+use crate::se23::{
+    ExtTwist, Matrix3x9, Matrix9, Se23, mul9, se23_left_jacobian, se23_left_jacobian_inv,
+};
 use crate::{M3, S, SimdBackend, SimdReal, So3Group, So3Mat, So3Quat, V3, so3};
 
 /// A `3 × 6` matrix, row-major: the Jacobian of an SE(3) action with
@@ -386,6 +391,105 @@ impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for Se3<B, R> {
         mul6(&a, &b)
     }
     fn jacobian_neg(a: Matrix6<S<B>>) -> Matrix6<S<B>> {
+        a.map(|r| r.map(|x| -x))
+    }
+}
+
+impl<B: SimdBackend, R: So3Group<B>> LieGroup<B> for Se23<B, R> {
+    const DOF: usize = 9;
+    type Tangent = ExtTwist<B>;
+    type Jacobian = Matrix9<S<B>>;
+    type ActJacobian = Matrix3x9<S<B>>;
+
+    #[inline]
+    fn identity() -> Self {
+        Se23::identity()
+    }
+    #[inline]
+    fn compose(self, rhs: Self) -> Self {
+        Se23::compose(self, rhs)
+    }
+    #[inline]
+    fn inverse(self) -> Self {
+        Se23::inverse(self)
+    }
+    #[inline]
+    fn act(self, p: V3<B>) -> V3<B> {
+        Se23::act(self, p)
+    }
+    #[inline]
+    fn exp(tau: ExtTwist<B>) -> Self {
+        Se23::exp(tau)
+    }
+    #[inline]
+    fn log(self) -> ExtTwist<B> {
+        Se23::log(self)
+    }
+    #[inline]
+    fn adjoint(self) -> Matrix9<S<B>> {
+        Se23::adjoint(self)
+    }
+    fn right_jacobian(tau: ExtTwist<B>) -> Matrix9<S<B>> {
+        se23_left_jacobian::<B>(Self::tangent_neg(tau))
+    }
+    fn right_jacobian_inv(tau: ExtTwist<B>) -> Matrix9<S<B>> {
+        se23_left_jacobian_inv::<B>(Self::tangent_neg(tau))
+    }
+    fn left_jacobian(tau: ExtTwist<B>) -> Matrix9<S<B>> {
+        se23_left_jacobian::<B>(tau)
+    }
+    fn left_jacobian_inv(tau: ExtTwist<B>) -> Matrix9<S<B>> {
+        se23_left_jacobian_inv::<B>(tau)
+    }
+    /// `∂(R p + x)/∂X = [R, 0, −R p^]` (right perturbation `(ρ, ν, φ)`).
+    fn act_jac(self, p: V3<B>) -> (V3<B>, Matrix3x9<S<B>>, M3<B>) {
+        // SO(3)'s adjoint is its rotation matrix.
+        let r = self.rotation.adjoint();
+        let left = ops::elems::<B>(r);
+        let right = ops::elems::<B>(r * so3::hat::<B>(p) * S::<B>::simd_lit(-1.0));
+        let j = core::array::from_fn(|i| {
+            core::array::from_fn(|k| match k {
+                0..3 => left[i][k],
+                3..6 => S::<B>::zero(),
+                _ => right[i][k - 6],
+            })
+        });
+        (self.act(p), j, r)
+    }
+    fn tangent_neg(tau: ExtTwist<B>) -> ExtTwist<B> {
+        ExtTwist::new(-tau.rho, -tau.nu, -tau.phi)
+    }
+    fn tangent_coord(tau: &ExtTwist<B>, i: usize) -> S<B> {
+        tau.to_array()[i]
+    }
+    fn tangent_from_fn(f: impl FnMut(usize) -> S<B>) -> ExtTwist<B> {
+        ExtTwist::from_array(core::array::from_fn(f))
+    }
+    fn jacobian_entry(j: &Matrix9<S<B>>, row: usize, col: usize) -> S<B> {
+        j[row][col]
+    }
+    fn act_jacobian_entry(j: &Matrix3x9<S<B>>, row: usize, col: usize) -> S<B> {
+        j[row][col]
+    }
+    fn jacobian_apply(j: &Matrix9<S<B>>, tau: ExtTwist<B>) -> ExtTwist<B> {
+        let t = tau.to_array();
+        ExtTwist::from_array(j.map(|row| (0..9).fold(S::<B>::zero(), |s, k| s + row[k] * t[k])))
+    }
+    fn jacobian_identity() -> Matrix9<S<B>> {
+        core::array::from_fn(|i| {
+            core::array::from_fn(|j| {
+                if i == j {
+                    S::<B>::one()
+                } else {
+                    S::<B>::zero()
+                }
+            })
+        })
+    }
+    fn jacobian_mul(a: Matrix9<S<B>>, b: Matrix9<S<B>>) -> Matrix9<S<B>> {
+        mul9(&a, &b)
+    }
+    fn jacobian_neg(a: Matrix9<S<B>>) -> Matrix9<S<B>> {
         a.map(|r| r.map(|x| -x))
     }
 }

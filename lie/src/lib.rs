@@ -1,4 +1,4 @@
-//! SO(3) and SE(3), written once and compiled for `f32`/`f64` on the
+//! SO(3), SE(3) and SE₂(3), written once and compiled for `f32`/`f64` on the
 //! nalgebra or glam backend.
 //!
 //! This crate owns the group maths every other crate of the workspace
@@ -6,7 +6,8 @@
 //! left/right Jacobians and their inverses, projection onto the group, and
 //! the attitude error function `Ψ` with the error vectors `e_R`, `e_Ω` of
 //! Goodarzi, Lee & Lee (Proposition 1). One trait, [`LieGroup`], gives
-//! SO(3) ([`So3Mat`], [`So3Quat`]), SE(3) ([`Se3`]) and the rigid-body
+//! SO(3) ([`So3Mat`], [`So3Quat`]), SE(3) ([`Se3`]), the extended poses
+//! SE₂(3) ([`Se23`]) and the rigid-body
 //! state SO(3) × ℝ³ × ℝ³ × ℝ³ ([`RigidState`]) the operations estimation
 //! code is written in: ⊕/⊖ on either side, `between`, and the Jacobians of
 //! each with respect to each argument. It deliberately owns no dynamics,
@@ -114,6 +115,7 @@ pub mod noise;
 mod quat;
 mod real;
 mod rotation;
+mod se23;
 mod se3;
 pub mod series;
 pub mod so3;
@@ -137,6 +139,9 @@ pub use quat::So3Quat;
 pub use real::Real;
 pub use rotation::{AttitudeErrors, Rotation, So3Group, e_omega};
 pub use se3::{Matrix4, Matrix6, Se3, Twist, q_block, se3_left_jacobian, se3_left_jacobian_inv};
+pub use se23::{
+    ExtTwist, Matrix3x9, Matrix5, Matrix9, Se23, mul9, se23_left_jacobian, se23_left_jacobian_inv,
+};
 #[cfg(feature = "simd")]
 pub use simba::simd::{WideF32x8, WideF64x4};
 pub use simd::{SimdMask, SimdReal};
@@ -205,7 +210,7 @@ impl core::error::Error for LieError {}
 pub mod prelude {
     pub use crate::{
         AttitudeErrors, Backend, LieError, LieGroup, M3, Real, RigidState, RigidTangent, Rotation,
-        S, Se3, So3Mat, So3Quat, Twist, V3, ops,
+        S, Se3, Se23, So3Mat, So3Quat, Twist, V3, ops,
     };
     #[cfg(feature = "glam")]
     pub use crate::{GlamF32, GlamF32A, GlamF64};

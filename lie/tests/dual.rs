@@ -11,7 +11,8 @@
 //! `Log X̄`, through the logarithm near π.
 
 use lie::{
-    Dual, LieGroup, NalgebraDual, NalgebraF64, Real, RigidState, Se3, SimdReal, So3Mat, So3Quat,
+    Dual, LieGroup, NalgebraDual, NalgebraF64, Real, RigidState, Se3, Se23, SimdReal, So3Mat,
+    So3Quat,
 };
 
 mod common;
@@ -157,6 +158,12 @@ fn se3_matrix() {
 #[test]
 fn se3_quaternion() {
     group_checks::<Se3<Bf, So3Quat<Bf>>, Se3<Bd, So3Quat<Bd>>>("SE(3) quaternion");
+}
+
+#[test]
+fn se23_matrix() {
+    group_checks::<Se23<Bf, So3Mat<Bf>>, Se23<Bd, So3Mat<Bd>>>("SE₂(3) matrix");
+    group_checks::<Se23<Bf, So3Quat<Bf>>, Se23<Bd, So3Quat<Bd>>>("SE₂(3) quaternion");
 }
 
 #[test]

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use lie::{
     Backend, GlamF32, GlamF32A, GlamF64, LieGroup, NalgebraF32, NalgebraF64, Real, RigidState, S,
-    Se3, So3Mat, So3Quat,
+    Se3, Se23, So3Mat, So3Quat,
 };
 
 /// A small deterministic generator (no dependency): uniform in [−1, 1).
@@ -86,11 +86,14 @@ fn tangent_at(rng: &mut Rng, angle: f64, trans: f64) -> C {
 }
 
 /// The tangent coordinates of `c` for group `G`: SO(3) takes the angle
-/// part, SE(3) `(ρ, φ)`, the rigid-body state `(φ, x, v, Ω)`.
+/// part, SE(3) `(ρ, φ)`, SE₂(3) `(ρ, ν, φ)` (ν the velocity part), the
+/// rigid-body state `(φ, x, v, Ω)`.
 fn for_group<B: Backend, G: LieGroup<B>>(c: C) -> C {
     core::array::from_fn(|i| match (G::DOF, i) {
         (3, 0..3) | (12, 0..3) => c[i + 3],
-        (6, 0..6) => c[i],
+        (6, 0..6) | (9, 0..3) => c[i],
+        (9, 3..6) => c[i + 3],
+        (9, 6..9) => c[i - 3],
         (12, 3..6) => c[i - 3],
         (12, _) => c[i],
         _ => 0.0,
@@ -370,6 +373,10 @@ fn group_identities_to_rounding() {
             "nalgebra f64 Rigid<So3Mat>",
         ),
         identities::<GlamF64, RigidState<GlamF64, So3Quat<GlamF64>>>("glam f64 Rigid<So3Quat>"),
+        identities::<NalgebraF64, Se23<NalgebraF64, So3Mat<NalgebraF64>>>(
+            "nalgebra f64 Se23<So3Mat>",
+        ),
+        identities::<GlamF64, Se23<GlamF64, So3Quat<GlamF64>>>("glam f64 Se23<So3Quat>"),
     ] {
         assert!(w.iter().all(|e| *e < f64_tol), "{w:?}");
     }
@@ -387,6 +394,10 @@ fn group_identities_to_rounding() {
         identities::<GlamF32, RigidState<GlamF32, So3Mat<GlamF32>>>("glam f32 Rigid<So3Mat>"),
         identities::<GlamF32A, Se3<GlamF32A, So3Mat<GlamF32A>>>("glam f32a Se3<So3Mat>"),
         identities::<GlamF32A, So3Quat<GlamF32A>>("glam f32a So3Quat"),
+        identities::<NalgebraF32, Se23<NalgebraF32, So3Quat<NalgebraF32>>>(
+            "nalgebra f32 Se23<So3Quat>",
+        ),
+        identities::<GlamF32, Se23<GlamF32, So3Mat<GlamF32>>>("glam f32 Se23<So3Mat>"),
     ] {
         assert!(w.iter().all(|e| *e < f32_tol), "{w:?}");
     }
@@ -455,6 +466,18 @@ fn f32_agrees_with_f64_away_from_singular_points() {
         >(),
         f32_vs_f64::<
             NalgebraF32,
+            Se23<NalgebraF32, So3Mat<NalgebraF32>>,
+            NalgebraF64,
+            Se23<NalgebraF64, So3Mat<NalgebraF64>>,
+        >(),
+        f32_vs_f64::<
+            GlamF32,
+            Se23<GlamF32, So3Quat<GlamF32>>,
+            GlamF64,
+            Se23<GlamF64, So3Quat<GlamF64>>,
+        >(),
+        f32_vs_f64::<
+            NalgebraF32,
             RigidState<NalgebraF32, So3Quat<NalgebraF32>>,
             NalgebraF64,
             RigidState<NalgebraF64, So3Quat<NalgebraF64>>,
@@ -492,6 +515,13 @@ fn jacobians_against_finite_differences() {
     );
     check::<GlamF64, RigidState<GlamF64, So3Mat<GlamF64>>>("glam f64 Rigid<So3Mat>", tol);
     check::<GlamF64, RigidState<GlamF64, So3Quat<GlamF64>>>("glam f64 Rigid<So3Quat>", tol);
+    check::<NalgebraF64, Se23<NalgebraF64, So3Mat<NalgebraF64>>>("nalgebra f64 Se23<So3Mat>", tol);
+    check::<NalgebraF64, Se23<NalgebraF64, So3Quat<NalgebraF64>>>(
+        "nalgebra f64 Se23<So3Quat>",
+        tol,
+    );
+    check::<GlamF64, Se23<GlamF64, So3Mat<GlamF64>>>("glam f64 Se23<So3Mat>", tol);
+    check::<GlamF64, Se23<GlamF64, So3Quat<GlamF64>>>("glam f64 Se23<So3Quat>", tol);
 }
 
 fn main() {
