@@ -49,7 +49,9 @@
 mod error;
 mod estimator;
 mod gps;
+mod iekf;
 mod imu;
+pub mod kalman;
 mod mocap;
 mod noise;
 mod presets;
@@ -57,6 +59,7 @@ mod presets;
 pub use error::SensorError;
 pub use estimator::{Estimator, Measurement, MocapEstimator, NavState, SensorSet};
 pub use gps::{Baro, BaroSample, BaroSpec, Gps, GpsSample, GpsSpec};
+pub use iekf::{IEKF_DIM, Iekf, IekfConfig, InitialSigma, Rejections, gamma2};
 pub use imu::{Imu, ImuSample, ImuSpec, Kinematics, TriadErrors};
 pub use mocap::{Mocap, MocapSample, MocapSpec, Spike};
 pub use noise::NoiseKey;
