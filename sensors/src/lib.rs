@@ -46,6 +46,7 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]
 
+mod complementary;
 mod error;
 mod estimator;
 mod gps;
@@ -56,6 +57,7 @@ mod mocap;
 mod noise;
 mod presets;
 
+pub use complementary::{Complementary, ComplementaryConfig};
 pub use error::SensorError;
 pub use estimator::{Estimator, Measurement, MocapEstimator, NavState, SensorSet};
 pub use gps::{Baro, BaroSample, BaroSpec, Gps, GpsSample, GpsSpec};
