@@ -39,7 +39,7 @@ CRATES = ["lie", "dynamics", "controllers", "integrators", "sensors", "missions"
 LAYERS = {
     "scenes": [
         ("format", ["error", "scene", "reference"]),
-        ("scenes", ["builtin", "overrides", "registry", "scene_simulation", "run_report", "sources"]),
+        ("scenes", ["builtin", "estimators", "overrides", "registry", "scene_simulation", "run_report", "sources"]),
     ],
     "studies": [
         ("metrics", ["metrics"]),

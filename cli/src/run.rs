@@ -66,10 +66,11 @@ pub struct RunArgs {
     /// crazyflie, mpu9250, fdcl-gazebo [default: the scene's].
     #[arg(long, value_name = "PRESET")]
     pub sensors: Option<String>,
-    /// What the flight modes read: none (the true state) or mocap (the
-    /// latest motion-capture frame; needs sampled control) [default: the
-    /// scene's].
-    #[arg(long, value_parser = ["none", "mocap"])]
+    /// What the flight modes read: none (the true state), mocap (the
+    /// latest motion-capture frame), iekf (the invariant EKF on SE₂(3)) or
+    /// complementary (the complementary filter on SO(3)); all but none need
+    /// sampled control [default: the scene's].
+    #[arg(long, value_parser = ["none", "mocap", "iekf", "complementary"])]
     pub estimator: Option<String>,
     /// Seed of the sensor noise [default: the scene's].
     #[arg(long)]

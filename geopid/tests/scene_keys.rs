@@ -94,6 +94,10 @@ fn populated() -> Scene {
     s.estimator = Some(EstimatorSpec {
         kind: EstimatorKind::Mocap,
         gyro_rates: true,
+        attitude_error: Some([1.0; 3]),
+        attitude_sigma: Some(1.0),
+        k_p: Some(1.0),
+        k_i: Some(1.0),
     });
     s
 }

@@ -37,6 +37,7 @@
 
 pub mod builtin;
 mod error;
+mod estimators;
 mod overrides;
 pub mod reference;
 mod registry;

@@ -112,9 +112,16 @@ impl Overrides {
             });
         }
         if let Some(kind) = self.estimator {
+            use crate::scene::EstimatorKind::{Complementary, Iekf};
+            // The scene's own initial error is kept for a filter that reads it.
+            let old = scene.estimator.take().unwrap_or_default();
             scene.estimator = Some(crate::scene::EstimatorSpec {
                 kind,
-                gyro_rates: false,
+                attitude_error: old
+                    .attitude_error
+                    .filter(|_| matches!(kind, Iekf | Complementary)),
+                attitude_sigma: old.attitude_sigma.filter(|_| kind == Iekf),
+                ..crate::scene::EstimatorSpec::default()
             });
         }
         scene.seed = self.seed.unwrap_or(scene.seed);

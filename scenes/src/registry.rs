@@ -728,16 +728,10 @@ fn with_sensing<B: Backend>(
     let suite = spec.suite().map_err(|(k, msg)| Error::at_key(k, msg))?;
     b = b.sensors(suite, scene.seed);
     if let Some(e) = &scene.estimator
-        && e.kind == crate::scene::EstimatorKind::Mocap
+        && let Some(est) = crate::estimators::build::<B>(e, &suite, scene.vehicle.gravity)
+            .map_err(|(k, msg)| Error::at_key(k, msg))?
     {
-        let est = match (e.gyro_rates, suite.imu) {
-            (true, Some(imu)) => {
-                let r_bs = lie::ops::from_elems::<B>(imu.mounting.map(|r| r.map(S::<B>::lit)));
-                sensors::MocapEstimator::<B>::with_gyro_rates(r_bs)
-            }
-            _ => sensors::MocapEstimator::<B>::new(),
-        };
-        b = b.estimator(Box::new(est));
+        b = b.estimator(est);
     }
     Ok(b)
 }

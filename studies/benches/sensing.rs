@@ -5,6 +5,10 @@
 //! estimator. The ratio of the medians is what a user pays for flying on
 //! measurements.
 //!
+//! The `estimation` group: `figure-eight-estimated` (RK4 at 1 ms, control
+//! and the invariant EKF at every 1 kHz IMU sample, mocap at 100 Hz)
+//! against the same scene without sensors or estimator.
+//!
 //! `cargo bench -p geopid-studies --bench sensing`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -28,7 +32,7 @@ fn flip(sensed: bool) -> Scene {
         });
         s.estimator = Some(EstimatorSpec {
             kind: EstimatorKind::Mocap,
-            gyro_rates: false,
+            ..EstimatorSpec::default()
         });
     }
     s
@@ -43,6 +47,15 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("sensing");
     g.bench_function("flip-100hz-truth", |b| b.iter(|| quiet(&truth)));
     g.bench_function("flip-100hz-imu1k-mocap100", |b| b.iter(|| quiet(&sensed)));
+    g.finish();
+    // The invariant EKF at every 1 kHz IMU sample in the loop, against
+    // the same scene flown on the truth with no sensors at all.
+    let est = builtin::figure_eight_estimated();
+    let mut truth = est.clone();
+    (truth.sensors, truth.estimator) = (None, None);
+    let mut g = c.benchmark_group("estimation");
+    g.bench_function("figure-eight-truth", |b| b.iter(|| quiet(&truth)));
+    g.bench_function("figure-eight-iekf-imu1k", |b| b.iter(|| quiet(&est)));
     g.finish();
 }
 

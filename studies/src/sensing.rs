@@ -79,6 +79,7 @@ impl Sweep {
         s.estimator = Some(EstimatorSpec {
             kind: EstimatorKind::Mocap,
             gyro_rates: self.gyro_rates,
+            ..EstimatorSpec::default()
         });
         s
     }
@@ -169,7 +170,7 @@ impl LoopSweep {
                     });
                     s.estimator = Some(EstimatorSpec {
                         kind: EstimatorKind::Mocap,
-                        gyro_rates: false,
+                        ..EstimatorSpec::default()
                     });
                     runs.push(s);
                 }

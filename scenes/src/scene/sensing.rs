@@ -70,15 +70,32 @@ impl SensorsSpec {
 }
 
 /// `[estimator]`: what the flight modes read in place of the true state.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EstimatorSpec {
-    /// `none` (the truth) or `mocap` (the latest motion-capture frame).
+    /// `none` (the truth), `mocap` (the latest motion-capture frame),
+    /// `iekf` (the invariant EKF on SE₂(3)) or `complementary` (the
+    /// passive complementary filter on SO(3)).
     pub kind: EstimatorKind,
     /// For `mocap`: the body rates from the IMU's gyroscope instead of the
     /// tracker.
     #[serde(default)]
     pub gyro_rates: bool,
+    /// For `iekf` and `complementary`: the initial estimate's attitude
+    /// error, a rotation vector in rad (`R̂₀ = R₀ Exp(error)`); the flight
+    /// computer is told the rest of the initial state exactly.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attitude_error: Option<[f64; 3]>,
+    /// For `iekf`: the initial attitude σ, rad (by default 0.1, or the
+    /// size of `attitude_error` if larger).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attitude_sigma: Option<f64>,
+    /// For `complementary`: the attitude gain `k_P`, 1/s (2 by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_p: Option<f64>,
+    /// For `complementary`: the gyro-bias gain `k_I`, 1/s² (0.2 by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_i: Option<f64>,
 }
 
 /// An estimator by name.
@@ -90,14 +107,33 @@ pub enum EstimatorKind {
     None,
     /// The latest motion-capture frame.
     Mocap,
+    /// The right-invariant EKF on SE₂(3) with IMU biases.
+    Iekf,
+    /// The passive complementary filter on SO(3), position from the mocap.
+    Complementary,
 }
 
 impl EstimatorKind {
+    /// Every kind's name.
+    pub const NAMES: [&'static str; 4] = ["none", "mocap", "iekf", "complementary"];
+
     /// Its name in a scene file and on the command line.
     pub fn name(self) -> &'static str {
         match self {
             EstimatorKind::None => "none",
             EstimatorKind::Mocap => "mocap",
+            EstimatorKind::Iekf => "iekf",
+            EstimatorKind::Complementary => "complementary",
+        }
+    }
+
+    /// The sensors it cannot fly without: `(imu, mocap, mocap or gps)`.
+    fn needs(self, gyro_rates: bool) -> (bool, bool, bool) {
+        match self {
+            EstimatorKind::None => (false, false, false),
+            EstimatorKind::Mocap => (gyro_rates, true, false),
+            EstimatorKind::Iekf => (true, false, true),
+            EstimatorKind::Complementary => (true, true, false),
         }
     }
 }
@@ -108,7 +144,12 @@ impl std::str::FromStr for EstimatorKind {
         match s {
             "none" => Ok(EstimatorKind::None),
             "mocap" => Ok(EstimatorKind::Mocap),
-            _ => Err(format!("estimator \"{s}\": expected none or mocap")),
+            "iekf" => Ok(EstimatorKind::Iekf),
+            "complementary" => Ok(EstimatorKind::Complementary),
+            _ => Err(format!(
+                "estimator \"{s}\": expected one of {}",
+                EstimatorKind::NAMES.join(", ")
+            )),
         }
     }
 }
@@ -319,12 +360,17 @@ impl super::Scene {
             ));
         }
         let have = suite.map(|s| s.set()).unwrap_or_default();
-        if !have.mocap || (e.gyro_rates && !have.imu) {
-            let what = if have.mocap {
-                "an IMU"
-            } else {
-                "motion capture"
-            };
+        let (imu, mocap, fix) = e.kind.needs(e.gyro_rates);
+        let missing = if mocap && !have.mocap {
+            Some("motion capture")
+        } else if fix && !(have.mocap || have.gps) {
+            Some("motion capture or a GPS")
+        } else if imu && !have.imu {
+            Some("an IMU")
+        } else {
+            None
+        };
+        if let Some(what) = missing {
             return Err((
                 "estimator.kind",
                 format!(
@@ -336,6 +382,74 @@ impl super::Scene {
                         ""
                     },
                 ),
+            ));
+        }
+        e.check_keys()?;
+        Ok(())
+    }
+}
+
+impl EstimatorSpec {
+    /// Each filter's keys given only to the kind they belong to, and in
+    /// range.
+    fn check_keys(&self) -> Result<(), (&'static str, String)> {
+        use EstimatorKind::*;
+        let kind = self.kind;
+        let given: [(&'static str, bool, bool); 5] = [
+            ("estimator.gyro_rates", self.gyro_rates, kind == Mocap),
+            (
+                "estimator.attitude_error",
+                self.attitude_error.is_some(),
+                matches!(kind, Iekf | Complementary),
+            ),
+            (
+                "estimator.attitude_sigma",
+                self.attitude_sigma.is_some(),
+                kind == Iekf,
+            ),
+            ("estimator.k_p", self.k_p.is_some(), kind == Complementary),
+            ("estimator.k_i", self.k_i.is_some(), kind == Complementary),
+        ];
+        if let Some((key, ..)) = given.iter().find(|(_, g, fits)| *g && !fits) {
+            return Err((
+                key,
+                format!(
+                    "`{key}` does not apply to estimator `kind` = \"{}\"",
+                    kind.name()
+                ),
+            ));
+        }
+        if let Some(a) = self.attitude_error
+            && let Some(bad) = a.iter().find(|x| !x.is_finite())
+        {
+            return Err((
+                "estimator.attitude_error",
+                format!("`estimator.attitude_error` has {bad}: must be finite (rad)"),
+            ));
+        }
+        if kind == Complementary {
+            let d = sensors::ComplementaryConfig::default();
+            let cfg = sensors::ComplementaryConfig {
+                k_p: self.k_p.unwrap_or(d.k_p),
+                k_i: self.k_i.unwrap_or(d.k_i),
+                ..d
+            };
+            if let Err(e) = cfg.validate() {
+                let key = match &e {
+                    sensors::SensorError::Setting { field, .. } if field.ends_with("k_i") => {
+                        "estimator.k_i"
+                    }
+                    _ => "estimator.k_p",
+                };
+                return Err((key, format!("{key}: {e}")));
+            }
+        }
+        if let Some(s) = self.attitude_sigma
+            && !(s.is_finite() && s > 0.0)
+        {
+            return Err((
+                "estimator.attitude_sigma",
+                format!("`estimator.attitude_sigma` = {s}: must be positive and finite (rad)"),
             ));
         }
         Ok(())
