@@ -47,6 +47,8 @@
 #![deny(missing_docs)]
 
 mod complementary;
+#[cfg(feature = "std")]
+mod delayed;
 mod error;
 mod estimator;
 mod gps;
@@ -58,6 +60,8 @@ mod noise;
 mod presets;
 
 pub use complementary::{Complementary, ComplementaryConfig};
+#[cfg(feature = "std")]
+pub use delayed::Delayed;
 pub use error::SensorError;
 pub use estimator::{Estimator, Measurement, MocapEstimator, NavState, SensorSet};
 pub use gps::{Baro, BaroSample, BaroSpec, Gps, GpsSample, GpsSpec};
