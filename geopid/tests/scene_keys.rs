@@ -98,6 +98,7 @@ fn populated() -> Scene {
         attitude_sigma: Some(1.0),
         k_p: Some(1.0),
         k_i: Some(1.0),
+        compensate_delay: Some(true),
     });
     s
 }

@@ -69,7 +69,18 @@ pub fn build<B: Backend>(
             _ => Box::new(sensors::MocapEstimator::<B>::new()),
         },
         EstimatorKind::Iekf => {
-            Box::new(sensors::Iekf::<B>::new(iekf_config(spec, suite, gravity)).map_err(named)?)
+            let f = sensors::Iekf::<B>::new(iekf_config(spec, suite, gravity)).map_err(named)?;
+            // The history spans the longest wait and a margin of a few
+            // IMU periods for measurements taken between samples.
+            let late = suite
+                .mocap
+                .map_or(0.0, |m| m.latency)
+                .max(suite.gps.map_or(0.0, |g| g.delay));
+            if late > 0.0 && spec.compensate_delay != Some(false) {
+                Box::new(sensors::Delayed::new(f, late + 0.01).map_err(named)?)
+            } else {
+                Box::new(f)
+            }
         }
         EstimatorKind::Complementary => {
             let d = sensors::ComplementaryConfig::default();

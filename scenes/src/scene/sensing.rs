@@ -96,6 +96,11 @@ pub struct EstimatorSpec {
     /// For `complementary`: the gyro-bias gain `k_I`, 1/s² (0.2 by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k_i: Option<f64>,
+    /// For `iekf`: `true` (the default) applies a late measurement at the
+    /// instant it describes and replays the later ones; `false` applies
+    /// it when it arrives.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compensate_delay: Option<bool>,
 }
 
 /// An estimator by name.
@@ -395,7 +400,7 @@ impl EstimatorSpec {
     fn check_keys(&self) -> Result<(), (&'static str, String)> {
         use EstimatorKind::*;
         let kind = self.kind;
-        let given: [(&'static str, bool, bool); 5] = [
+        let given: [(&'static str, bool, bool); 6] = [
             ("estimator.gyro_rates", self.gyro_rates, kind == Mocap),
             (
                 "estimator.attitude_error",
@@ -409,6 +414,11 @@ impl EstimatorSpec {
             ),
             ("estimator.k_p", self.k_p.is_some(), kind == Complementary),
             ("estimator.k_i", self.k_i.is_some(), kind == Complementary),
+            (
+                "estimator.compensate_delay",
+                self.compensate_delay.is_some(),
+                kind == Iekf,
+            ),
         ];
         if let Some((key, ..)) = given.iter().find(|(_, g, fits)| *g && !fits) {
             return Err((
