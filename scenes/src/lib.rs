@@ -47,6 +47,7 @@ mod scene_simulation;
 mod sources;
 
 pub use error::{BuildError, Error};
+pub use estimators::iekf_config;
 pub use overrides::Overrides;
 pub use registry::{
     FactoryError, PARAMETERS, PositionFn, Registry, VehicleFactory, build_vehicle, parameter_mut,

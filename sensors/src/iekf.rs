@@ -9,8 +9,9 @@
 //! keeps the filter consistent through large attitude errors; the biases
 //! couple through `X̂` (Hartley et al. 2020), and only they.
 //!
-//! - Mean: the IMU's body rate and specific force, held over each interval
-//!   from the sample that starts it, integrated exactly on the group:
+//! - Mean: the IMU's body rate and specific force, each sample taken for
+//!   the interval that ends at it (what an accelerometer reports) and held
+//!   past it until the next, integrated exactly on the group:
 //!   `R ← R Exp(ω h)`, `v ← v + R J_l(ω h) f h + g e3 h`,
 //!   `x ← x + v h + R Γ₂(ω h) f h² + ½ g e3 h²`.
 //! - Covariance: `Φ = [[Φ_nav, B], [0, I]]` with `Φ_nav = exp(A h)`
@@ -490,11 +491,20 @@ impl<B: Backend> Iekf<B> {
         }
     }
 
-    fn imu_sample(&mut self, s: &ImuSample<B>) -> bool {
+    /// Sample `s` carries the filter over the interval that ends at it:
+    /// the specific force its own, the rate the mean of its and the last
+    /// sample's (the rotation then to second order, as the FDCL lab's
+    /// `R ← R Exp(h/2 (Ω + Ω_prev))`); then it is held past it.
+    fn imu_sample(&mut self, s: &ImuSample<B>, t: f64) -> bool {
         if !(ops::is_finite_vec::<B>(s.gyro) && ops::is_finite_vec::<B>(s.accel)) {
+            self.propagate(t);
             return false;
         }
-        self.held = Some((self.r_bs * s.gyro, self.r_bs * s.accel));
+        let (w, f) = (self.r_bs * s.gyro, self.r_bs * s.accel);
+        let mid = self.held.map_or(w, |(w0, _)| (w0 + w) * lit::<B>(0.5));
+        self.held = Some((mid, f));
+        self.propagate(t);
+        self.held = Some((w, f));
         true
     }
 }
@@ -528,18 +538,28 @@ impl<B: Backend> Estimator<B> for Iekf<B> {
         if !t.is_finite() {
             return;
         }
-        self.propagate(t);
-        match m {
-            Measurement::Imu(s) if !self.imu_sample(s) => {
-                self.rejected.imu += 1;
+        let ok = match m {
+            // The sample describes the interval that ends at it (an
+            // accelerometer's reading is the loads of that interval, a
+            // simulation's sample at a control instant the command before
+            // it): it carries the filter there, and on until the next.
+            Measurement::Imu(s) => self.imu_sample(s, t),
+            Measurement::Mocap(f) => {
+                self.propagate(t);
+                self.mocap_update(f)
             }
-            Measurement::Mocap(f) if !self.mocap_update(f) => {
-                self.rejected.mocap += 1;
+            Measurement::Gps(f) => {
+                self.propagate(t);
+                self.gps_update(f)
             }
-            Measurement::Gps(f) if !self.gps_update(f) => {
-                self.rejected.gps += 1;
+            _ => true,
+        };
+        if !ok {
+            match m {
+                Measurement::Imu(_) => self.rejected.imu += 1,
+                Measurement::Mocap(_) => self.rejected.mocap += 1,
+                _ => self.rejected.gps += 1,
             }
-            _ => {}
         }
     }
     fn estimate(&self, t: f64) -> NavState<B> {

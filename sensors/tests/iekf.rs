@@ -123,6 +123,15 @@ fn run(
     for k in 0..=n {
         let t = k as f64 / 1000.0;
         let (r, vel, x, a, w) = truth(t);
+        // The IMU first, as a simulation hands over equal arrivals.
+        let kin = sensors::Kinematics::<B> {
+            r: r.as_matrix(),
+            omega: w,
+            accel: a,
+            alpha: v([0.0; 3]),
+        };
+        let s = imu_m.sample(k, &kin, G).unwrap();
+        f.update(&Measurement::Imu(s));
         if k % 10 == 0 && k > 0 {
             let km = k / 10;
             if let Some(m) = mocap_m.frame::<B>(km, x, vel, r.as_matrix(), w) {
@@ -146,14 +155,6 @@ fn run(
             out.nees.push(nees(&p, &e));
             out.att_err.push(ops::norm::<B>(eta.phi));
         }
-        let kin = sensors::Kinematics::<B> {
-            r: r.as_matrix(),
-            omega: w,
-            accel: a,
-            alpha: v([0.0; 3]),
-        };
-        let s = imu_m.sample(k, &kin, G).unwrap();
-        f.update(&Measurement::Imu(s));
     }
     out
 }

@@ -25,6 +25,7 @@
 
 #![deny(missing_docs)]
 
+pub mod estimation;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod gains;
