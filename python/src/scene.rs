@@ -110,6 +110,8 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
                 let options = [
                     ("none", scenes::scene::EstimatorKind::None),
                     ("mocap", scenes::scene::EstimatorKind::Mocap),
+                    ("iekf", scenes::scene::EstimatorKind::Iekf),
+                    ("complementary", scenes::scene::EstimatorKind::Complementary),
                 ];
                 o.estimator = Some(parse_enum("estimator.kind", &s, &options).map_err(err)?);
             }
@@ -179,7 +181,8 @@ impl Scene {
     /// The scene with settings replaced: keywords `integrator`, `dt`,
     /// `tol`, `duration`, `sample`, `control_rate`, `loop_rates`, `scalar` ("f32" or
     /// "f64"), `backend` ("nalgebra" or "glam"), `no_integral`, `sensors`
-    /// (a suite's name), `estimator` ("none" or "mocap"), `seed`; `None`
+    /// (a suite's name), `estimator` ("none", "mocap", "iekf" or
+    /// "complementary"), `seed`; `None`
     /// keeps the scene's value. Validated: a bad value raises `SceneError`
     /// naming the key, an unknown keyword `TypeError`.
     #[pyo3(signature = (**kwargs))]
