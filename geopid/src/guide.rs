@@ -48,3 +48,10 @@ pub mod missions {
     #![doc = include_str!("../guide/15-missions.md")]
     #![doc = include_str!("../guide/figures/missions.md")]
 }
+pub mod flying_on_an_estimate {
+    #![doc = include_str!("../guide/16-estimation.md")]
+    #![doc = include_str!("../guide/figures/estimation-position.svg")]
+    #![doc = include_str!("../guide/figures/estimation-tracking.svg")]
+    #![doc = include_str!("../guide/figures/estimation-recovery.svg")]
+    #![doc = include_str!("../guide/figures/estimation.md")]
+}

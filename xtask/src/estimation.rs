@@ -25,6 +25,9 @@ pub struct EstimationArgs {
     /// Write the tables as Markdown here.
     #[arg(long, value_name = "PATH")]
     report: Option<PathBuf>,
+    /// Write the figures (one seed's errors over time) into this directory.
+    #[arg(long, value_name = "DIR")]
+    figures: Option<PathBuf>,
 }
 
 /// A consistent filter's mean sits in its band 95 % of the time; 90 %
@@ -49,6 +52,9 @@ pub fn estimation(a: EstimationArgs) -> Result<(), String> {
     let few = if a.quick { 10 } else { 20 };
     md.push_str(&closed_loop_table(&scenes, few, secs, &a)?);
     md.push_str(&large_errors_table(if a.quick { 10 } else { 50 }, &a)?);
+    if let Some(dir) = &a.figures {
+        figures(dir)?;
+    }
     if let Some(p) = a.report {
         std::fs::write(&p, md).map_err(|e| format!("writing {}: {e}", p.display()))?;
         println!("wrote {}", p.display());
@@ -204,4 +210,80 @@ fn large_errors_table(seeds: u64, a: &EstimationArgs) -> Result<String, String> 
         }
     }
     Ok(t)
+}
+
+/// `estimation-position.svg`: the figure eight's estimate error and flown
+/// error over time on each filter (seed 1); `estimation-recovery.svg`:
+/// the attitude estimate's error from 170° off, hover, on each filter.
+fn figures(dir: &std::path::Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
+    let eight = scenes::builtin::figure_eight_estimated();
+    let mut flown = vec![];
+    let mut est = vec![];
+    for kind in KINDS {
+        let out = scenes::run(&with_estimator(&eight, kind), Default::default())
+            .map_err(|e| e.to_string())?;
+        let mm = |v: f64| v * 1e3;
+        flown.push((
+            kind.name().to_string(),
+            out.samples
+                .iter()
+                .filter(|s| s.t >= 8.0)
+                .map(|s| (s.t, mm(s.ex)))
+                .collect(),
+        ));
+        if kind != EstimatorKind::None {
+            let e = out
+                .samples
+                .iter()
+                .filter_map(|s| {
+                    let e = s.sensors.as_ref()?.estimate?;
+                    let d: f64 = (0..3).map(|i| (e.x[i] - s.x[i]).powi(2)).sum();
+                    Some((s.t, mm(d.sqrt())))
+                })
+                .collect();
+            est.push((kind.name().to_string(), e));
+        }
+    }
+    let p = dir.join("estimation-position.svg");
+    studies::figures::time_series(
+        &p,
+        "figure-eight-estimated: ‖x̂ − x‖ of the estimate",
+        "‖x̂ − x‖ [mm]",
+        &est,
+    )
+    .map_err(|e| e.to_string())?;
+    println!("wrote {}", p.display());
+    let p = dir.join("estimation-tracking.svg");
+    studies::figures::time_series(
+        &p,
+        "figure-eight-estimated: flown ‖x − x_d‖ from 8 s, by estimator",
+        "‖e_x‖ [mm]",
+        &flown,
+    )
+    .map_err(|e| e.to_string())?;
+    println!("wrote {}", p.display());
+    let mut rec = vec![];
+    for kind in [EstimatorKind::Iekf, EstimatorKind::Complementary] {
+        let mut s = with_estimator(&scenes::builtin::hover_estimated(), kind);
+        s.duration = 20.0;
+        let axis = studies::estimation::random_axis(1);
+        s.estimator.as_mut().unwrap().attitude_error = Some(axis.map(|c| c * 170f64.to_radians()));
+        let out = scenes::run(&s, Default::default()).map_err(|e| e.to_string())?;
+        let e = attitude_errors(&out)
+            .into_iter()
+            .map(|(t, a)| (t, a.to_degrees()))
+            .collect();
+        rec.push((kind.name().to_string(), e));
+    }
+    let p = dir.join("estimation-recovery.svg");
+    studies::figures::time_series(
+        &p,
+        "hover-estimated, the estimate started 170° off",
+        "attitude error [°]",
+        &rec,
+    )
+    .map_err(|e| e.to_string())?;
+    println!("wrote {}", p.display());
+    Ok(())
 }

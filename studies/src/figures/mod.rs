@@ -67,6 +67,17 @@ pub fn montecarlo(dir: &Path, rows: &[Outcome]) -> Result<(), FigureError> {
     montecarlo::montecarlo(dir, rows).map_err(at(dir))
 }
 
+/// A time plot of labelled curves `(label, [(t, y)])`, a colour each,
+/// the legend beside the plot.
+pub fn time_series(
+    path: &Path,
+    title: &str,
+    ylabel: &str,
+    curves: &[(String, Vec<(f64, f64)>)],
+) -> Result<(), FigureError> {
+    run::time_series(path, title, ylabel, curves).map_err(at(path))
+}
+
 /// One sweep's error against wall time, log–log, a line per stepper.
 pub fn work_precision(path: &Path, name: &str, pts: &[WorkPoint]) -> Result<(), FigureError> {
     work_precision::plot(path, name, pts).map_err(at(path))

@@ -69,6 +69,21 @@ fn chart(path: &Path, title: &str, ylabel: &str, series: &[Series]) -> Result<()
     figure::finish(plot, path, shown)
 }
 
+/// [`chart`] of plain curves, a colour each, all solid.
+pub(super) fn time_series(
+    path: &Path,
+    title: &str,
+    ylabel: &str,
+    curves: &[(String, Vec<(f64, f64)>)],
+) -> Result<(), String> {
+    let series: Vec<Series> = curves
+        .iter()
+        .enumerate()
+        .map(|(i, (l, pts))| (l.clone(), pts.clone(), COLORS[i % COLORS.len()], 0))
+        .collect();
+    chart(path, title, ylabel, &series)
+}
+
 /// Three components of a measured vector (solid) and of its desired
 /// value (dashed, a pattern per component, so that curves lying on one
 /// another stay apart), a colour per component.
