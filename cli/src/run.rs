@@ -68,9 +68,10 @@ pub struct RunArgs {
     pub sensors: Option<String>,
     /// What the flight modes read: none (the true state), mocap (the
     /// latest motion-capture frame), iekf (the invariant EKF on SE₂(3)) or
-    /// complementary (the complementary filter on SO(3)); all but none need
-    /// sampled control [default: the scene's].
-    #[arg(long, value_parser = ["none", "mocap", "iekf", "complementary"])]
+    /// complementary (the complementary filter on SO(3)) or fdcl-ekf (the
+    /// FDCL lab's EKF, on an IMU with an attitude output and a GPS); all
+    /// but none need sampled control [default: the scene's].
+    #[arg(long, value_parser = ["none", "mocap", "iekf", "complementary", "fdcl-ekf"])]
     pub estimator: Option<String>,
     /// Seed of the sensor noise [default: the scene's].
     #[arg(long)]

@@ -66,6 +66,7 @@ fn populated() -> Scene {
             mounting: Some([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
             accel: Some(triad.clone()),
             gyro: Some(triad),
+            attitude_sigma: Some(1.0),
         }),
         mocap: Some(MocapTable {
             position_sigma: Some(1.0),

@@ -683,7 +683,7 @@ impl Sink for McapWriter {
             z: a[2],
         };
         match *m {
-            MeasurementRecord::Imu { t, accel, gyro } => {
+            MeasurementRecord::Imu { t, accel, gyro, .. } => {
                 let m = msg::ImuReading {
                     t,
                     accel: v(accel),

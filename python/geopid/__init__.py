@@ -78,7 +78,7 @@ def load_scene(scene: SceneLike, **overrides: Any) -> Scene:
     1 kHz, 500 Hz and 100 Hz),
     ``scalar`` ("f32"/"f64"), ``backend`` ("nalgebra"/"glam"),
     ``no_integral``, ``sensors`` (a suite: "rotorpy", "crazyflie",
-    "mpu9250", "fdcl-gazebo"), ``estimator`` ("none", "mocap", "iekf", "complementary"), ``seed``;
+    "mpu9250", "fdcl-gazebo"), ``estimator`` ("none", "mocap", "iekf", "complementary", "fdcl-ekf"), ``seed``;
     ``None`` keeps the scene's value).
 
     Raises :class:`SceneError` (a ``ValueError``) with ``key`` and

@@ -112,6 +112,7 @@ fn overrides(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Ove
                     ("mocap", scenes::scene::EstimatorKind::Mocap),
                     ("iekf", scenes::scene::EstimatorKind::Iekf),
                     ("complementary", scenes::scene::EstimatorKind::Complementary),
+                    ("fdcl-ekf", scenes::scene::EstimatorKind::FdclEkf),
                 ];
                 o.estimator = Some(parse_enum("estimator.kind", &s, &options).map_err(err)?);
             }
@@ -181,8 +182,8 @@ impl Scene {
     /// The scene with settings replaced: keywords `integrator`, `dt`,
     /// `tol`, `duration`, `sample`, `control_rate`, `loop_rates`, `scalar` ("f32" or
     /// "f64"), `backend` ("nalgebra" or "glam"), `no_integral`, `sensors`
-    /// (a suite's name), `estimator` ("none", "mocap", "iekf" or
-    /// "complementary"), `seed`; `None`
+    /// (a suite's name), `estimator` ("none", "mocap", "iekf",
+    /// "complementary" or "fdcl-ekf"), `seed`; `None`
     /// keeps the scene's value. Validated: a bad value raises `SceneError`
     /// naming the key, an unknown keyword `TypeError`.
     #[pyo3(signature = (**kwargs))]

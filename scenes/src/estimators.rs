@@ -82,6 +82,14 @@ pub fn build<B: Backend>(
                 Box::new(f)
             }
         }
+        EstimatorKind::FdclEkf => {
+            let cfg = sensors::FdclConfig {
+                r_bi: mounting.unwrap_or(sensors::FdclConfig::default().r_bi),
+                gravity,
+                ..sensors::FdclConfig::default()
+            };
+            Box::new(sensors::FdclEkf::<B>::new(cfg))
+        }
         EstimatorKind::Complementary => {
             let d = sensors::ComplementaryConfig::default();
             let cfg = sensors::ComplementaryConfig {

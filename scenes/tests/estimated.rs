@@ -160,3 +160,36 @@ fn a_late_mocap_is_applied_where_it_was_taken() {
     // only 20 ms of dead reckoning, near the on-time 2.4 mm.
     assert!(figs[0].0 < 5e-3 && figs[1].0 > 2.0 * figs[0].0, "{figs:?}");
 }
+
+#[test]
+fn the_fdcl_ekf_flies_on_the_lab_simulators_sensors() {
+    let mut scene = scenes::builtin::hover_estimated();
+    scene.duration = 10.0;
+    scene.control.rate = 100.0;
+    scene.sensors = Some(scenes::scene::SensorsSpec::preset("fdcl-gazebo"));
+    scene.estimator.as_mut().unwrap().kind = EstimatorKind::FdclEkf;
+    let out = scenes::run(&scene, Default::default()).unwrap();
+    let (est, ex) = rms(&out, 5.0);
+    println!(
+        "hover-estimated on fdcl-gazebo's IMU, AHRS and GPS, fdcl-ekf: estimate error RMS {:.2} mm, flown {:.2} mm",
+        est * 1e3,
+        ex * 1e3
+    );
+    // GPS at 10 Hz with σ 1 cm, an IMU of σ 1e-4: within a couple of cm.
+    assert!(est < 0.02 && ex < 0.03, "{est} {ex}");
+    // Without the IMU's attitude output it has nothing to correct its
+    // attitude with: refused, naming the key that gives one; without a
+    // GPS, likewise.
+    let base = "format = 1\nname = \"e\"\nduration = 0.5\n\
+                [control]\ntiming = \"sampled\"\nrate = 100.0\n\
+                [estimator]\nkind = \"fdcl-ekf\"\n[sensors.gps]\nrate = 10.0\n[sensors.imu]\nrate = 100.0\n";
+    let e = Scene::from_toml(base, "s.toml").unwrap_err().to_string();
+    assert!(e.contains("sensors.imu.attitude_sigma"), "{e}");
+    Scene::from_toml(&format!("{base}attitude_sigma = 0.001\n"), "s.toml").unwrap();
+    let mut bare = scene.clone();
+    bare.sensors = Some(scenes::scene::SensorsSpec::preset("crazyflie"));
+    let e = Scene::from_toml(&bare.to_toml(), "s.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("needs a GPS"), "{e}");
+}

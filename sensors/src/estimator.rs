@@ -49,6 +49,14 @@ pub enum Measurement<B: Backend> {
 }
 
 impl<B: Backend> Measurement<B> {
+    /// Whether it is a motion-capture frame.
+    pub fn is_mocap(&self) -> bool {
+        matches!(self, Measurement::Mocap(_))
+    }
+    /// Whether it is a GPS fix.
+    pub fn is_gps(&self) -> bool {
+        matches!(self, Measurement::Gps(_))
+    }
     /// The instant it describes, s.
     pub fn captured(&self) -> f64 {
         match self {

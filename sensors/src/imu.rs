@@ -64,6 +64,10 @@ pub struct ImuSpec {
     pub accel: TriadErrors,
     /// The gyroscope's errors, rad/s.
     pub gyro: TriadErrors,
+    /// An attitude output, as an AHRS gives it (the FDCL lab's VectorNav):
+    /// the sensor's axes in the world, `R R_BS Exp(η)` with `η` of this σ
+    /// per axis, rad; `None`: rates and specific force only.
+    pub attitude_sigma: Option<f64>,
 }
 
 /// The true motion at a sample instant, from the dynamics: what an IMU
@@ -105,6 +109,9 @@ pub struct ImuSample<B: Backend> {
     pub accel: V3<B>,
     /// Angular rate, rad/s.
     pub gyro: V3<B>,
+    /// The sensor's attitude (sensor axes to world) from an AHRS output,
+    /// if the IMU has one.
+    pub attitude: Option<M3<B>>,
 }
 
 /// An IMU in a run: its spec, its noise key and the state of its bias
@@ -130,6 +137,8 @@ pub struct Imu<B: Backend> {
 const WHITE: u64 = 0;
 const WALK: u64 = 3;
 const TURN_ON: u64 = 6;
+// The attitude output's three normals: pairs 9 and 10.
+const ATTITUDE: u64 = 9;
 
 impl<B: Backend> Imu<B> {
     /// The IMU of `spec` drawing its noise from `key`; `spec` checked
@@ -230,11 +239,22 @@ impl<B: Backend> Imu<B> {
             let [x, y, z] = raw.map(|x| x.min(r).max(-r));
             B::vec3(x, y, z)
         };
+        let attitude = self.spec.attitude_sigma.map(|sigma| {
+            let [a, b] = self.key.pair(k, ATTITUDE);
+            let [c, _] = self.key.pair(k, ATTITUDE + 1);
+            let eta = B::vec3(
+                S::<B>::lit(sigma * a),
+                S::<B>::lit(sigma * b),
+                S::<B>::lit(sigma * c),
+            );
+            kin.r * self.r_bs * lie::So3Mat::<B>::exp(eta).as_matrix()
+        });
         Ok(ImuSample {
             k,
             t: self.time_of(k),
             accel: read(0, self.accel_gain, accel, self.spec.accel.range),
             gyro: read(1, self.gyro_gain, gyro, self.spec.gyro.range),
+            attitude,
         })
     }
 
@@ -258,6 +278,15 @@ impl ImuSpec {
             return Err(setting("position", x, "finite (m, body frame)"));
         }
         check_rotation(&self.mounting)?;
+        if let Some(sigma) = self.attitude_sigma
+            && !(sigma.is_finite() && sigma >= 0.0)
+        {
+            return Err(setting(
+                "attitude_sigma",
+                sigma,
+                "finite and not negative (rad)",
+            ));
+        }
         check_triad(&self.accel, ACCEL_FIELDS)?;
         check_triad(&self.gyro, GYRO_FIELDS)
     }
@@ -267,6 +296,7 @@ impl ImuSpec {
         Self {
             accel: TriadErrors::NONE,
             gyro: TriadErrors::NONE,
+            attitude_sigma: self.attitude_sigma.map(|_| 0.0),
             ..self
         }
     }

@@ -82,3 +82,46 @@ pub fn is_spd<const N: usize>(p: &Mat<f64, N>, tol: f64) -> bool {
     }
     true
 }
+
+/// `A·B`.
+pub fn mul<T: Real, const R: usize, const K: usize, const C: usize>(
+    a: &[[T; K]; R],
+    b: &[[T; C]; K],
+) -> [[T; C]; R] {
+    core::array::from_fn(|i| {
+        core::array::from_fn(|j| (0..K).fold(T::zero(), |s, k| s + a[i][k] * b[k][j]))
+    })
+}
+
+/// `Aᵀ`.
+pub fn transpose<T: Real, const R: usize, const C: usize>(a: &[[T; C]; R]) -> [[T; R]; C] {
+    core::array::from_fn(|i| core::array::from_fn(|j| a[j][i]))
+}
+
+/// `S⁻¹` of a symmetric positive definite `S` through its Cholesky
+/// factor, or `None` when `S` is not positive definite (or not finite).
+pub fn spd_inverse<T: Real, const N: usize>(s: &Mat<T, N>) -> Option<Mat<T, N>> {
+    let mut l = [[T::zero(); N]; N];
+    for j in 0..N {
+        let d = s[j][j] - (0..j).fold(T::zero(), |a, k| a + l[j][k] * l[j][k]);
+        if !(d.is_finite() && d > T::zero()) {
+            return None;
+        }
+        l[j][j] = d.sqrt();
+        for i in j + 1..N {
+            l[i][j] = (s[i][j] - (0..j).fold(T::zero(), |a, k| a + l[i][k] * l[j][k])) / l[j][j];
+        }
+    }
+    // Columns of L⁻¹ by forward substitution, then S⁻¹ = L⁻ᵀ L⁻¹.
+    let mut li = [[T::zero(); N]; N];
+    for c in 0..N {
+        for i in c..N {
+            let rhs = if i == c { T::one() } else { T::zero() };
+            let acc = (c..i).fold(T::zero(), |a, k| a + l[i][k] * li[k][c]);
+            li[i][c] = (rhs - acc) / l[i][i];
+        }
+    }
+    Some(core::array::from_fn(|i| {
+        core::array::from_fn(|j| (0..N).fold(T::zero(), |a, k| a + li[k][i] * li[k][j]))
+    }))
+}

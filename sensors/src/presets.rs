@@ -17,6 +17,7 @@ impl ImuSpec {
             mounting: IDENTITY,
             accel,
             gyro,
+            attitude_sigma: None,
         }
     }
 
@@ -62,11 +63,16 @@ impl ImuSpec {
 
     /// The IMU of the FDCL lab's Gazebo simulator (`fdcl-gwu/uav_simulator`):
     /// 100 Hz, Gaussian noise of σ = 1e-4 per sample on every axis of both
-    /// triads.
+    /// triads, and the attitude its IMU message carries, with the same σ
+    /// in rad (an assumption: the simulator's orientation noise is not
+    /// given).
     pub fn fdcl_gazebo() -> Self {
         // σ = N·√100.
         let n = 1e-4 / 10.0;
-        Self::aligned(100.0, TriadErrors::white(n), TriadErrors::white(n))
+        Self {
+            attitude_sigma: Some(1e-4),
+            ..Self::aligned(100.0, TriadErrors::white(n), TriadErrors::white(n))
+        }
     }
 }
 
@@ -160,6 +166,9 @@ impl SensorSuite {
                 e.noise_density *= k;
                 e.random_walk *= k;
                 e.turn_on_bias *= k;
+            }
+            if let Some(a) = s.attitude_sigma.as_mut() {
+                *a *= k;
             }
         }
         if let Some(s) = self.mocap.as_mut() {

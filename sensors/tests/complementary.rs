@@ -161,6 +161,7 @@ fn bad_gains_and_non_finite_input() {
         t: 0.0,
         accel: v([0.0, 0.0, -G]),
         gyro: v([f64::NAN, 0.0, 0.0]),
+        attitude: None,
     };
     f.update(&Measurement::Imu(s));
     assert_eq!(f.rejections(), 1);

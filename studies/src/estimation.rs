@@ -34,38 +34,20 @@ pub struct Consistency {
     pub runs: usize,
     /// Record instants after the burn-in.
     pub instants: usize,
-    /// The mean NEES over every run and instant (15 states).
+    /// The mean NEES over every run and instant (15 states for the
+    /// invariant EKF, 10 for the FDCL EKF).
     pub nees: f64,
     /// The band the mean over the runs at one instant should lie in.
     pub nees_band: (f64, f64),
     /// The share of instants whose mean over the runs is in the band.
     pub nees_inside: f64,
-    /// The same for the mocap updates' NIS (6 rows each).
+    /// The same for the NIS of the mocap (invariant EKF) or GPS (FDCL
+    /// EKF) updates, 6 rows each.
     pub nis: f64,
     /// Its band.
     pub nis_band: (f64, f64),
     /// Its share.
     pub nis_inside: f64,
-}
-
-/// `eᵀ P⁻¹ e` by Cholesky (`None` if `P` is not positive definite).
-fn nees(p: &[[f64; 15]; 15], e: &[f64; 15]) -> Option<f64> {
-    let mut l = [[0.0f64; 15]; 15];
-    for j in 0..15 {
-        let d = p[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
-        if d.is_nan() || d <= 0.0 {
-            return None;
-        }
-        l[j][j] = d.sqrt();
-        for i in j + 1..15 {
-            l[i][j] = (p[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / l[j][j];
-        }
-    }
-    let mut y = [0.0f64; 15];
-    for i in 0..15 {
-        y[i] = (e[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
-    }
-    Some(y.iter().map(|x| x * x).sum())
 }
 
 fn v3(a: [f64; 3]) -> lie::V3<B> {
@@ -79,7 +61,12 @@ pub fn arrivals(out: &RunOutput) -> Vec<(f64, Measurement<B>)> {
     let mut ev: Vec<(f64, f64, usize, Measurement<B>)> = Vec::new();
     for m in &out.measurements {
         match *m {
-            MeasurementRecord::Imu { t, accel, gyro } => ev.push((
+            MeasurementRecord::Imu {
+                t,
+                accel,
+                gyro,
+                attitude,
+            } => ev.push((
                 t,
                 t,
                 0,
@@ -88,6 +75,7 @@ pub fn arrivals(out: &RunOutput) -> Vec<(f64, Measurement<B>)> {
                     t,
                     accel: v3(accel),
                     gyro: v3(gyro),
+                    attitude: attitude.map(lie::ops::from_elems::<B>),
                 }),
             )),
             MeasurementRecord::Mocap { t, arrival, state } => ev.push((
@@ -101,6 +89,17 @@ pub fn arrivals(out: &RunOutput) -> Vec<(f64, Measurement<B>)> {
                     v: v3(state.v),
                     r: lie::ops::from_elems::<B>(state.r),
                     omega: v3(state.omega),
+                }),
+            )),
+            MeasurementRecord::Gps { t, arrival, x, v } => ev.push((
+                arrival,
+                t,
+                2,
+                Measurement::Gps(sensors::GpsSample {
+                    k: 0,
+                    t,
+                    x: v3(x),
+                    v: v3(v),
                 }),
             )),
             _ => {}
@@ -133,6 +132,73 @@ fn replay(scene: &Scene, out: &RunOutput, burn_in: f64) -> Result<(Vec<f64>, Vec
         });
     let cfg = scenes::iekf_config(&spec, &suite, scene.vehicle.gravity);
     let mut f = Iekf::<B>::new(cfg).map_err(|e| Error::at_key("estimator.kind", e.to_string()))?;
+    replay_with(&mut f, out, burn_in, Measurement::is_mocap, |f, s| {
+        let truth = Se23::<B>::new(
+            So3Mat::from_matrix_unchecked(lie::ops::from_elems::<B>(s.r)),
+            v3(s.v),
+            v3(s.x),
+        );
+        let x = f.estimate(s.t);
+        let est = Se23::<B>::new(So3Mat::from_matrix_unchecked(x.r), x.v, x.x);
+        let eta: ExtTwist<B> = (est * truth.inverse()).log();
+        let (bg, ba) = f.biases();
+        let mut e = [0.0; 15];
+        e[..9].copy_from_slice(&eta.to_array());
+        e[9..12].copy_from_slice(&lie::ops::vec3_f64::<B>(bg));
+        e[12..].copy_from_slice(&lie::ops::vec3_f64::<B>(ba));
+        (nees_n(f.covariance(), &e), f.last_nis())
+    })
+}
+
+/// The FDCL EKF's NEES in its own coordinates, `(x − x̂, v − v̂,
+/// Log(R̂ᵀ R), b − b̂)` with the true bias zero, and its GPS updates' NIS,
+/// by replaying the run's measurements through it.
+fn replay_fdcl(
+    scene: &Scene,
+    out: &RunOutput,
+    burn_in: f64,
+) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let mounting = scene
+        .sensors
+        .as_ref()
+        .map(|s| s.suite())
+        .transpose()
+        .map_err(|(k, m)| Error::at_key(k, m))?
+        .and_then(|s| s.imu)
+        .map(|i| i.mounting);
+    let d = sensors::FdclConfig::default();
+    let mut f = sensors::FdclEkf::<B>::new(sensors::FdclConfig {
+        r_bi: mounting.unwrap_or(d.r_bi),
+        gravity: scene.vehicle.gravity,
+        ..d
+    });
+    replay_with(&mut f, out, burn_in, Measurement::is_gps, |f, s| {
+        let (x, v, _, r, _) = f.states();
+        let mut e = [0.0; 10];
+        let rt = So3Mat::<B>::from_matrix_unchecked(lie::ops::from_elems::<B>(s.r));
+        let da = So3Mat::<B>::from_matrix_unchecked(r)
+            .inverse()
+            .compose(rt)
+            .log();
+        e[..3].copy_from_slice(&lie::ops::vec3_f64::<B>(v3(s.x) - x));
+        e[3..6].copy_from_slice(&lie::ops::vec3_f64::<B>(v3(s.v) - v));
+        e[6..9].copy_from_slice(&lie::ops::vec3_f64::<B>(da));
+        e[9] = -f.bias();
+        (nees_n(f.covariance(), &e), f.last_nis())
+    })
+}
+
+/// Replays `out`'s measurements through `f` (reset at the run's first
+/// sample) in arrival order; at each record sample from `burn_in` the
+/// NEES `err` gives, and after each measurement `nis_after` picks, the
+/// filter's last NIS (`NaN` where either is missing).
+fn replay_with<E: Estimator<B>>(
+    f: &mut E,
+    out: &RunOutput,
+    burn_in: f64,
+    nis_after: fn(&Measurement<B>) -> bool,
+    err: impl Fn(&E, &scenarios::Sample) -> (Option<f64>, Option<(f64, usize)>),
+) -> Result<(Vec<f64>, Vec<f64>), Error> {
     let s0 = &out.samples[0];
     f.reset(
         0.0,
@@ -148,30 +214,26 @@ fn replay(scene: &Scene, out: &RunOutput, burn_in: f64) -> Result<(Vec<f64>, Vec
     for s in &out.samples {
         while next < events.len() && events[next].0 <= s.t + 1e-9 * s.t.max(1e-3) {
             f.update(&events[next].1);
-            if matches!(events[next].1, Measurement::Mocap(_)) && s.t >= burn_in {
-                ni.push(f.last_nis().map_or(f64::NAN, |n| n.0));
+            if nis_after(&events[next].1) && s.t >= burn_in {
+                ni.push(err(f, s).1.map_or(f64::NAN, |n| n.0));
             }
             next += 1;
         }
-        if s.t < burn_in {
-            continue;
+        if s.t >= burn_in {
+            ne.push(err(f, s).0.unwrap_or(f64::NAN));
         }
-        let truth = Se23::<B>::new(
-            So3Mat::from_matrix_unchecked(lie::ops::from_elems::<B>(s.r)),
-            v3(s.v),
-            v3(s.x),
-        );
-        let x = f.estimate(s.t);
-        let est = Se23::<B>::new(So3Mat::from_matrix_unchecked(x.r), x.v, x.x);
-        let eta: ExtTwist<B> = (est * truth.inverse()).log();
-        let (bg, ba) = f.biases();
-        let mut e = [0.0; 15];
-        e[..9].copy_from_slice(&eta.to_array());
-        e[9..12].copy_from_slice(&lie::ops::vec3_f64::<B>(bg));
-        e[12..].copy_from_slice(&lie::ops::vec3_f64::<B>(ba));
-        ne.push(nees(f.covariance(), &e).unwrap_or(f64::NAN));
     }
     Ok((ne, ni))
+}
+
+/// `eᵀ P⁻¹ e` for an `N`-state filter.
+fn nees_n<const N: usize>(p: &[[f64; N]; N], e: &[f64; N]) -> Option<f64> {
+    let pi = sensors::kalman::spd_inverse(p)?;
+    Some(
+        (0..N)
+            .map(|i| e[i] * (0..N).map(|j| pi[i][j] * e[j]).sum::<f64>())
+            .sum(),
+    )
 }
 
 /// Per-instant means over the runs, their band and the share inside.
@@ -189,22 +251,31 @@ fn summarise(runs: &[Vec<f64>], dof: usize) -> (f64, (f64, f64), f64, usize) {
     (avg, band, inside as f64 / len.max(1) as f64, len)
 }
 
-/// `scene` (on the invariant EKF, mocap on time) over `seeds`, `burn_in`
-/// s left out; runs on `threads` threads.
+/// `scene` over `seeds`, `burn_in` s left out, on its estimator: the
+/// invariant EKF (15 states; NIS of its mocap updates) or the FDCL EKF (10
+/// states; NIS of its GPS updates); runs on `threads` threads.
 pub fn consistency(
     scene: &Scene,
     seeds: &[u64],
     burn_in: f64,
     threads: Option<usize>,
 ) -> Result<Consistency, Error> {
+    let fdcl = scene
+        .estimator
+        .as_ref()
+        .is_some_and(|e| e.kind == EstimatorKind::FdclEkf);
     let runs = crate::montecarlo::parallel_map(seeds, threads, |&seed| {
         let mut s = scene.clone();
         s.seed = seed;
         let out = scenes::run(&s, RunOptions::default())?;
-        replay(&s, &out, burn_in)
+        if fdcl {
+            replay_fdcl(&s, &out, burn_in)
+        } else {
+            replay(&s, &out, burn_in)
+        }
     })?;
     let (ne, ni): (Vec<_>, Vec<_>) = runs.into_iter().unzip();
-    let (nees, nees_band, nees_inside, instants) = summarise(&ne, 15);
+    let (nees, nees_band, nees_inside, instants) = summarise(&ne, if fdcl { 10 } else { 15 });
     let (nis, nis_band, nis_inside, _) = summarise(&ni, 6);
     Ok(Consistency {
         runs: seeds.len(),

@@ -69,20 +69,32 @@ fn consistency_table(
     a: &EstimationArgs,
 ) -> Result<String, String> {
     let mut t = format!(
-        "**Consistency of the invariant EKF** ({seeds} seeds × {secs} s, 2 s burn-in; the mean over \
+        "**Consistency** ({seeds} seeds × {secs} s, 2 s burn-in; the mean over \
          the seeds at each 10 ms record instant against its two-sided 95 % χ² band)\n\n\
-         | scene | mean NEES (15) | band | inside | mean NIS (6) | band | inside |\n|---|---|---|---|---|---|---|\n"
+         | scene | mean NEES (states) | band | inside | mean NIS (6) | band | inside |\n|---|---|---|---|---|---|---|\n"
     );
     let mut failed = vec![];
-    for scene in scenes {
+    // The FDCL lab's EKF with its own tuning on the sensors of the lab's
+    // simulator (IMU and AHRS at 100 Hz, GPS at 10 Hz), reported
+    // whatever it is: the line below holds only the invariant EKF.
+    let mut fdcl = scenes[0].clone();
+    fdcl.name = "hover-estimated, fdcl-gazebo suite, fdcl-ekf (NIS of GPS)".into();
+    fdcl.sensors = Some(scenes::scene::SensorsSpec::preset("fdcl-gazebo"));
+    fdcl.estimator = Some(scenes::scene::EstimatorSpec {
+        kind: EstimatorKind::FdclEkf,
+        ..Default::default()
+    });
+    fdcl.control.rate = 100.0;
+    for (i, scene) in scenes.iter().chain([&fdcl]).enumerate() {
         let mut s = scene.clone();
         s.duration = secs;
         s.record.sample = 0.01;
         let start = std::time::Instant::now();
         let ids: Vec<u64> = (1..=seeds).collect();
         let c = consistency(&s, &ids, 2.0, a.threads).map_err(|e| e.to_string())?;
+        let dof = if i < scenes.len() { 15 } else { 10 };
         let row = format!(
-            "| {} | {:.2} | {:.2}–{:.2} | {:.1} % | {:.2} | {:.2}–{:.2} | {:.1} % |\n",
+            "| {} | {:.2} ({dof}) | {:.2}–{:.2} | {:.1} % | {:.2} | {:.2}–{:.2} | {:.1} % |\n",
             s.name,
             c.nees,
             c.nees_band.0,
@@ -100,7 +112,7 @@ fn consistency_table(
             c.instants,
             start.elapsed().as_secs_f64()
         );
-        if c.nees_inside < INSIDE_AT_LEAST || c.nis_inside < INSIDE_AT_LEAST {
+        if i < scenes.len() && (c.nees_inside < INSIDE_AT_LEAST || c.nis_inside < INSIDE_AT_LEAST) {
             failed.push(s.name.clone());
         }
         t.push_str(&row);

@@ -64,6 +64,8 @@ pub enum MeasurementRecord {
         accel: [f64; 3],
         /// Angular rate, rad/s.
         gyro: [f64; 3],
+        /// The attitude output (sensor axes to world), for an IMU with one.
+        attitude: Option<[[f64; 3]; 3]>,
     },
     /// A motion-capture frame.
     Mocap {
@@ -100,6 +102,7 @@ impl MeasurementRecord {
             t: m.t,
             accel: lie::ops::vec3_f64::<B>(m.accel),
             gyro: lie::ops::vec3_f64::<B>(m.gyro),
+            attitude: m.attitude.map(lie::ops::mat3_f64::<B>),
         }
     }
 

@@ -116,11 +116,13 @@ pub enum EstimatorKind {
     Iekf,
     /// The passive complementary filter on SO(3), position from the mocap.
     Complementary,
+    /// The FDCL lab's EKF: IMU with its attitude output, and GPS.
+    FdclEkf,
 }
 
 impl EstimatorKind {
     /// Every kind's name.
-    pub const NAMES: [&'static str; 4] = ["none", "mocap", "iekf", "complementary"];
+    pub const NAMES: [&'static str; 5] = ["none", "mocap", "iekf", "complementary", "fdcl-ekf"];
 
     /// Its name in a scene file and on the command line.
     pub fn name(self) -> &'static str {
@@ -129,16 +131,19 @@ impl EstimatorKind {
             EstimatorKind::Mocap => "mocap",
             EstimatorKind::Iekf => "iekf",
             EstimatorKind::Complementary => "complementary",
+            EstimatorKind::FdclEkf => "fdcl-ekf",
         }
     }
 
-    /// The sensors it cannot fly without: `(imu, mocap, mocap or gps)`.
-    fn needs(self, gyro_rates: bool) -> (bool, bool, bool) {
+    /// The sensors it cannot fly without: `(imu, mocap, mocap or gps,
+    /// gps)`.
+    fn needs(self, gyro_rates: bool) -> (bool, bool, bool, bool) {
         match self {
-            EstimatorKind::None => (false, false, false),
-            EstimatorKind::Mocap => (gyro_rates, true, false),
-            EstimatorKind::Iekf => (true, false, true),
-            EstimatorKind::Complementary => (true, true, false),
+            EstimatorKind::None => (false, false, false, false),
+            EstimatorKind::Mocap => (gyro_rates, true, false, false),
+            EstimatorKind::Iekf => (true, false, true, false),
+            EstimatorKind::Complementary => (true, true, false, false),
+            EstimatorKind::FdclEkf => (true, false, false, true),
         }
     }
 }
@@ -151,6 +156,7 @@ impl std::str::FromStr for EstimatorKind {
             "mocap" => Ok(EstimatorKind::Mocap),
             "iekf" => Ok(EstimatorKind::Iekf),
             "complementary" => Ok(EstimatorKind::Complementary),
+            "fdcl-ekf" => Ok(EstimatorKind::FdclEkf),
             _ => Err(format!(
                 "estimator \"{s}\": expected one of {}",
                 EstimatorKind::NAMES.join(", ")
@@ -365,13 +371,20 @@ impl super::Scene {
             ));
         }
         let have = suite.map(|s| s.set()).unwrap_or_default();
-        let (imu, mocap, fix) = e.kind.needs(e.gyro_rates);
+        let (imu, mocap, fix, gps) = e.kind.needs(e.gyro_rates);
+        let attitude = suite
+            .and_then(|s| s.imu)
+            .is_some_and(|i| i.attitude_sigma.is_some());
         let missing = if mocap && !have.mocap {
             Some("motion capture")
         } else if fix && !(have.mocap || have.gps) {
             Some("motion capture or a GPS")
+        } else if gps && !have.gps {
+            Some("a GPS")
         } else if imu && !have.imu {
             Some("an IMU")
+        } else if e.kind == EstimatorKind::FdclEkf && !attitude {
+            Some("an IMU with an attitude output (`sensors.imu.attitude_sigma`)")
         } else {
             None
         };
@@ -379,7 +392,7 @@ impl super::Scene {
             return Err((
                 "estimator.kind",
                 format!(
-                    "estimator `kind` = \"{}\"{} needs {what}: give `[sensors]` a preset with it (rotorpy, crazyflie)",
+                    "estimator `kind` = \"{}\"{} needs {what}: give `[sensors]` a preset with it (rotorpy, crazyflie, fdcl-gazebo) or its table",
                     e.kind.name(),
                     if e.gyro_rates {
                         " with `gyro_rates`"

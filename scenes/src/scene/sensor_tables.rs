@@ -65,6 +65,9 @@ pub struct ImuTable {
     /// The gyroscope, rad/s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gyro: Option<TriadTable>,
+    /// An attitude output (an AHRS) with this σ per axis, rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attitude_sigma: Option<f64>,
 }
 
 impl ImuTable {
@@ -77,7 +80,11 @@ impl ImuTable {
             mounting: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             accel: TriadErrors::NONE,
             gyro: TriadErrors::NONE,
+            attitude_sigma: None,
         });
+        if self.attitude_sigma.is_some() {
+            s.attitude_sigma = self.attitude_sigma;
+        }
         set(&mut s.rate, self.rate);
         set(&mut s.position, self.position);
         set(&mut s.mounting, self.mounting);
@@ -231,8 +238,9 @@ impl BaroTable {
 }
 
 /// Every key a sensor check can fault, as the scene names it.
-const KEYS: [&str; 33] = [
+const KEYS: [&str; 34] = [
     "sensors.imu.rate",
+    "sensors.imu.attitude_sigma",
     "sensors.imu.position",
     "sensors.imu.mounting",
     "sensors.imu.accel.noise_density",
