@@ -19,6 +19,7 @@ fn populated() -> Scene {
     let mut s = builtin::paper_flip();
     s.format = Some(1);
     s.vehicle.params.insert("any_number".into(), 1.0);
+    s.vehicle.model_mass = Some(1.0);
     s.vehicle.multirotor = Some(MultirotorSpec {
         preset: Preset::Hummingbird,
         k_eta: Some(1.0),

@@ -354,7 +354,8 @@ pub fn gains<B: Backend>(
 }
 
 /// Mass, inertia and gravity as the scene's controller knows them: the
-/// scene's numbers, the vehicle's inertia (a kind may derive it).
+/// scene's numbers (the mass `model_mass` when given), the vehicle's
+/// inertia (a kind may derive it).
 #[doc(hidden)]
 pub fn controller_params<B: Backend>(
     scene: &Scene,
@@ -362,7 +363,10 @@ pub fn controller_params<B: Backend>(
     seeds: Seeds<'_>,
 ) -> RigidBodyParams<B> {
     RigidBodyParams {
-        mass: seeds.lift::<B>("vehicle.mass", scene.vehicle.mass),
+        mass: match scene.vehicle.model_mass {
+            Some(m) => seeds.lift::<B>("vehicle.model_mass", m),
+            None => seeds.lift::<B>("vehicle.mass", scene.vehicle.mass),
+        },
         inertia: vehicle.inertia(),
         gravity: seeds.lift::<B>("vehicle.gravity", scene.vehicle.gravity),
     }

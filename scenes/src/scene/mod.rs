@@ -210,6 +210,10 @@ pub struct VehicleSpec {
     pub kind: VehicleKind,
     /// Mass, kg.
     pub mass: f64,
+    /// The mass the controller assumes, kg (absent: `mass`): a model
+    /// error the position law's integral term has to absorb.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_mass: Option<f64>,
     /// Principal inertia diag(J), kg m².
     pub inertia: [f64; 3],
     /// Accept principal moments that no rigid body has (one exceeding the
@@ -311,6 +315,7 @@ impl Default for VehicleSpec {
         Self {
             kind: VehicleKind::Quadrotor,
             mass: paper::MASS,
+            model_mass: None,
             inertia: paper::INERTIA,
             allow_nonphysical_inertia: true,
             gravity: paper::GRAVITY,

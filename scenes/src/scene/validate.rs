@@ -58,6 +58,9 @@ impl Scene {
     fn validate_vehicle(&self) -> Result<(), (&'static str, String)> {
         let ve = &self.vehicle;
         pos("vehicle.mass", ve.mass)?;
+        if let Some(m) = ve.model_mass {
+            pos("vehicle.model_mass", m)?;
+        }
         for j in ve.inertia {
             pos("vehicle.inertia", j)?;
         }
