@@ -21,9 +21,10 @@ const CSV_FIXED: usize = 25;
 
 /// Numbers a run with sensors adds after the vehicle's states: the
 /// estimate (x, v, R by rows, Ω), the latest accelerometer and gyroscope
-/// readings, motion-capture and GPS positions and barometric height, each
-/// `NaN` where the run has not got it.
-const SENSOR_COLUMNS: usize = 31;
+/// readings, motion-capture and GPS positions and barometric height, the
+/// estimator's 15 standard deviations (its own error states, in its order)
+/// and last NIS, each `NaN` where the run has not got it.
+const SENSOR_COLUMNS: usize = 47;
 
 /// The names of the [`SENSOR_COLUMNS`], comma first.
 fn sensor_header() -> String {
@@ -43,8 +44,11 @@ fn sensor_header() -> String {
     add("gyr", 3);
     add("mocap_x", 3);
     add("gps_x", 3);
-    h.push_str(",baro_h");
-    h
+    add("baro_h", 1);
+    add("est_sigma", 15);
+    add("est_nis", 1);
+    h.replace(",baro_h1", ",baro_h")
+        .replace(",est_nis1", ",est_nis")
 }
 
 /// The sensor columns of `s` (nothing without sensors).
@@ -66,6 +70,13 @@ fn sensor_numbers(s: &Sample, out: &mut Vec<f64>) {
         out.extend_from_slice(&v.unwrap_or(nan3));
     }
     out.push(r.baro.unwrap_or(f64::NAN));
+    match &r.diagnostics {
+        Some(d) => {
+            out.extend_from_slice(&d.sigma);
+            out.push(d.nis.map_or(f64::NAN, |n| n.0));
+        }
+        None => out.extend_from_slice(&[f64::NAN; 16]),
+    }
 }
 
 /// The width of `s`'s row.

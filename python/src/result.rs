@@ -197,7 +197,10 @@ fn measurements<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bound<'py, Py
 }
 
 /// The estimate the modes read at each record sample (`x`, `v`, `R`,
-/// `omega`), or `None` for a run without an estimator.
+/// `omega`; for a filter that keeps a covariance also `sigma`, the
+/// standard deviations of its error states, `NaN` past its count, and
+/// `nis`, its last correction's NIS), or `None` for a run without an
+/// estimator.
 fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py, PyDict>>> {
     let est: Vec<scenarios::NavSample> = out
         .samples
@@ -212,6 +215,20 @@ fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py,
     d.set_item("v", rows(py, est.iter().map(|e| e.v))?)?;
     d.set_item("R", mats(py, est.iter().map(|e| e.r))?)?;
     d.set_item("omega", rows(py, est.iter().map(|e| e.omega))?)?;
+    let diag: Vec<_> = out
+        .samples
+        .iter()
+        .filter_map(|s| s.sensors.as_deref().and_then(|r| r.diagnostics))
+        .collect();
+    if diag.len() == est.len() {
+        let sig: Vec<f64> = diag.iter().flat_map(|d| d.sigma).collect();
+        d.set_item("sigma", array(py, &[diag.len(), 15], sig)?)?;
+        let nis: Vec<f64> = diag
+            .iter()
+            .map(|d| d.nis.map_or(f64::NAN, |n| n.0))
+            .collect();
+        d.set_item("nis", array(py, &[diag.len()], nis)?)?;
+    }
     Ok(Some(d))
 }
 

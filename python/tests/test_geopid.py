@@ -684,8 +684,12 @@ def test_the_invariant_ekf_beats_the_raw_mocap_on_the_figure_eight():
     # The mocap's σ is 1 cm per axis (1.7 cm in norm); the filter that
     # fuses the 1 kHz IMU with it sits several times below.
     assert rms(res) < 0.005 < 0.01 < rms(again)
+    # The filter's own σ (position, velocity, attitude, biases) and NIS.
+    assert res.estimate["sigma"].shape == (res.t.size, 15)
+    assert 1e-4 < res.estimate["sigma"][-1, 0] < 5e-3
+    assert np.isfinite(res.estimate["nis"][-1])
     comp = geopid.run("figure-eight-estimated", duration=4.0, estimator="complementary")
-    assert comp.estimate is not None
+    assert comp.estimate is not None and "sigma" not in comp.estimate
 
 
 def test_a_bad_sensor_setting_names_its_key():

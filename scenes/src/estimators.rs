@@ -153,4 +153,7 @@ impl<B: Backend> Estimator<B> for WrongStart<B> {
     fn estimate(&self, t: f64) -> NavState<B> {
         self.inner.estimate(t)
     }
+    fn diagnostics(&self) -> Option<sensors::Diagnostics> {
+        self.inner.diagnostics()
+    }
 }

@@ -132,4 +132,7 @@ impl<B: Backend, E: Estimator<B> + Clone> Estimator<B> for Delayed<B, E> {
     fn estimate(&self, t: f64) -> NavState<B> {
         self.filter.estimate(t)
     }
+    fn diagnostics(&self) -> Option<crate::Diagnostics> {
+        self.filter.diagnostics()
+    }
 }

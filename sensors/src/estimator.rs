@@ -95,6 +95,33 @@ impl SensorSet {
     }
 }
 
+/// What a filter knows of its own accuracy: the standard deviations of its
+/// error states (the first `states` of `sigma`, in its own coordinates and
+/// order) and its last correction's normalised innovation squared with
+/// that correction's degrees of freedom.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Diagnostics {
+    /// Standard deviations; `NaN` past `states`.
+    pub sigma: [f64; 15],
+    /// How many of `sigma` are the filter's.
+    pub states: usize,
+    /// The last correction's NIS and degrees of freedom.
+    pub nis: Option<(f64, usize)>,
+}
+
+impl Diagnostics {
+    /// From a covariance's diagonal.
+    pub fn of_diagonal(diag: impl Iterator<Item = f64>, nis: Option<(f64, usize)>) -> Self {
+        let mut sigma = [f64::NAN; 15];
+        let mut states = 0;
+        for (s, d) in sigma.iter_mut().zip(diag) {
+            *s = d.max(0.0).sqrt();
+            states += 1;
+        }
+        Self { sigma, states, nis }
+    }
+}
+
 /// A state estimator: it takes the measurements in the order they arrive
 /// and gives, at a control instant, the state the flight mode reads.
 ///
@@ -128,6 +155,11 @@ pub trait Estimator<B: Backend>: Send {
     /// The state at `t` (a control instant, not before the last
     /// measurement's arrival).
     fn estimate(&self, t: f64) -> NavState<B>;
+    /// Its covariance's standard deviations and last NIS, for a filter
+    /// that keeps them (`None` by default).
+    fn diagnostics(&self) -> Option<Diagnostics> {
+        None
+    }
 }
 
 /// The latest motion-capture frame as the state, as RotorPy's

@@ -396,6 +396,10 @@ impl<B: Backend> Estimator<B> for FdclEkf<B> {
             self.rejected += 1;
         }
     }
+    fn diagnostics(&self) -> Option<crate::Diagnostics> {
+        let d = (0..FDCL_DIM).map(|i| self.p[i][i].to_f64_lossless());
+        Some(crate::Diagnostics::of_diagonal(d, self.nis))
+    }
     fn estimate(&self, _t: f64) -> NavState<B> {
         NavState {
             x: self.x,

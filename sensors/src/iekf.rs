@@ -562,6 +562,10 @@ impl<B: Backend> Estimator<B> for Iekf<B> {
             }
         }
     }
+    fn diagnostics(&self) -> Option<crate::Diagnostics> {
+        let d = (0..IEKF_DIM).map(|i| self.p[i][i].to_f64_lossless());
+        Some(crate::Diagnostics::of_diagonal(d, self.nis))
+    }
     fn estimate(&self, t: f64) -> NavState<B> {
         let x = self.mean_at(t);
         let omega = self.held.map_or(ops::zero::<B>(), |(w, _)| w - self.bg);

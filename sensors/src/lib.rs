@@ -64,7 +64,7 @@ pub use complementary::{Complementary, ComplementaryConfig};
 #[cfg(feature = "std")]
 pub use delayed::Delayed;
 pub use error::SensorError;
-pub use estimator::{Estimator, Measurement, MocapEstimator, NavState, SensorSet};
+pub use estimator::{Diagnostics, Estimator, Measurement, MocapEstimator, NavState, SensorSet};
 pub use fdcl_ekf::{FDCL_DIM, FdclConfig, FdclEkf, fdcl_expm};
 pub use gps::{Baro, BaroSample, BaroSpec, Gps, GpsSample, GpsSpec};
 pub use iekf::{IEKF_DIM, Iekf, IekfConfig, InitialSigma, Rejections, gamma2};

@@ -316,7 +316,7 @@ fn integral_table(seeds: u64, secs: f64, a: &EstimationArgs) -> Result<String, S
         "\n**The integral terms under estimation** (hover-estimated for {secs} s under the paper's \
          Δ_x, Δ_R, an accelerometer turn-on bias of σ 0.05 m/s² per axis, the controller's mass 10 % low; \
          the mean over the last 10 s and {seeds} seeds)\n\n\
-         | the modes read | integral terms | ‖e_x‖ [mm] | Ψ |\n|---|---|---|---|\n"
+         | the modes read | integral terms | ‖e_x‖, mm | Ψ |\n|---|---|---|---|\n"
     );
     let mut base = scenes::builtin::hover_estimated();
     base.duration = secs;

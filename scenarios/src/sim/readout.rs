@@ -38,6 +38,9 @@ impl NavSample {
 pub struct Readout {
     /// The estimate of the last control instant.
     pub estimate: Option<NavSample>,
+    /// The estimator's standard deviations and last NIS then, for a filter
+    /// that keeps them.
+    pub diagnostics: Option<sensors::Diagnostics>,
     /// The latest specific force, sensor axes, m/s².
     pub accel: Option<[f64; 3]>,
     /// The latest angular rate, sensor axes, rad/s.

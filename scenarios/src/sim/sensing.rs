@@ -345,6 +345,7 @@ impl<'a, B: Backend> Sensing<'a, B> {
         }
         let est = e.estimate(t);
         self.latest.estimate = Some(NavSample::of::<B>(&est));
+        self.latest.diagnostics = e.diagnostics();
         self.estimate = Some(est);
     }
 
