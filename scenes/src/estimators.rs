@@ -91,23 +91,8 @@ pub fn build<B: Backend>(
             Box::new(sensors::FdclEkf::<B>::new(cfg))
         }
         EstimatorKind::Complementary => {
-            let d = sensors::ComplementaryConfig::default();
-            let cfg = sensors::ComplementaryConfig {
-                k_p: spec.k_p.unwrap_or(d.k_p),
-                k_i: spec.k_i.unwrap_or(d.k_i),
-                mounting: mounting.unwrap_or(d.mounting),
-                ..d
-            };
-            let key = |e: sensors::SensorError| {
-                let key = match &e {
-                    sensors::SensorError::Setting { field, .. } if field.ends_with("k_i") => {
-                        "estimator.k_i"
-                    }
-                    _ => "estimator.k_p",
-                };
-                (key, format!("{key}: {e}"))
-            };
-            Box::new(sensors::Complementary::<B>::new(cfg).map_err(key)?)
+            let cfg = spec.complementary_config(mounting)?;
+            Box::new(sensors::Complementary::<B>::new(cfg).map_err(named)?)
         }
     };
     Ok(Some(match spec.attitude_error {

@@ -4,7 +4,8 @@
 //! from the motion capture: what a Crazyflie-class flight CPU affords.
 //!
 //! Between attitude measurements the gyroscope drives the estimate,
-//! `R̂ ← R̂ Exp((ω_y − b̂) h)`; at a measured attitude `R_y` the error
+//! `R̂ ← R̂ Exp((ω_y − b̂) h)`, each sample covering the interval that ends
+//! at it at the mean of its rate and the last one's; at a measured attitude `R_y` the error
 //! `ω = vex(P_a(R̂ᵀ R_y))` (`P_a` the skew part) turns the estimate toward
 //! it and moves the bias against it over the interval `Δ` since the last
 //! one: `R̂ ← R̂ Exp(k_P ω Δ)`, `b̂ ← b̂ − k_I ω Δ`. The error's size
@@ -179,10 +180,15 @@ impl<B: Backend> Estimator<B> for Complementary<B> {
     fn update(&mut self, m: &Measurement<B>) {
         let t = m.captured();
         match m {
+            // The sample covers the interval that ends at it, at the mean
+            // of its rate and the last one's, as the invariant EKF takes
+            // it; then it is held past it.
             Measurement::Imu(s) if ops::is_finite_vec::<B>(s.gyro) && t.is_finite() => {
+                let w = self.r_bs * s.gyro;
+                self.gyro = Some(self.gyro.map_or(w, |w0| (w0 + w) * S::<B>::lit(0.5)));
                 self.r = self.attitude_at(t);
                 self.t = self.t.max(t);
-                self.gyro = Some(self.r_bs * s.gyro);
+                self.gyro = Some(w);
             }
             Measurement::Mocap(f)
                 if ops::is_finite_mat::<B>(f.r)

@@ -41,6 +41,14 @@
 //! # Ok::<(), sensors::SensorError>(())
 //! ```
 //!
+//! # Estimators
+//! What a flight mode reads in place of the truth, each an [`Estimator`]:
+//! [`MocapEstimator`] (the latest frame), [`Complementary`] (the passive
+//! complementary filter on SO(3) with gyro bias), [`Iekf`] (a right-invariant
+//! EKF on SE₂(3) with IMU biases), [`FdclEkf`] (the FDCL lab's EKF), and, on
+//! the host, [`Delayed`] around any of them (late measurements applied at
+//! their capture time).
+//!
 //! `#![no_std]` without the `std` feature (use `libm`); no heap.
 
 #![cfg_attr(not(feature = "std"), no_std)]

@@ -408,6 +408,32 @@ impl super::Scene {
 }
 
 impl EstimatorSpec {
+    /// The complementary filter's settings from `k_p` and `k_i` (the
+    /// defaults where absent) with the IMU's `mounting`, checked; a fault
+    /// at the key that set it.
+    pub fn complementary_config(
+        &self,
+        mounting: Option<[[f64; 3]; 3]>,
+    ) -> Result<sensors::ComplementaryConfig, (&'static str, String)> {
+        let d = sensors::ComplementaryConfig::default();
+        let cfg = sensors::ComplementaryConfig {
+            k_p: self.k_p.unwrap_or(d.k_p),
+            k_i: self.k_i.unwrap_or(d.k_i),
+            mounting: mounting.unwrap_or(d.mounting),
+            ..d
+        };
+        cfg.validate().map_err(|e| {
+            let key = match &e {
+                sensors::SensorError::Setting { field, .. } if field.ends_with("k_i") => {
+                    "estimator.k_i"
+                }
+                _ => "estimator.k_p",
+            };
+            (key, format!("{key}: {e}"))
+        })?;
+        Ok(cfg)
+    }
+
     /// Each filter's keys given only to the kind they belong to, and in
     /// range.
     fn check_keys(&self) -> Result<(), (&'static str, String)> {
@@ -451,21 +477,7 @@ impl EstimatorSpec {
             ));
         }
         if kind == Complementary {
-            let d = sensors::ComplementaryConfig::default();
-            let cfg = sensors::ComplementaryConfig {
-                k_p: self.k_p.unwrap_or(d.k_p),
-                k_i: self.k_i.unwrap_or(d.k_i),
-                ..d
-            };
-            if let Err(e) = cfg.validate() {
-                let key = match &e {
-                    sensors::SensorError::Setting { field, .. } if field.ends_with("k_i") => {
-                        "estimator.k_i"
-                    }
-                    _ => "estimator.k_p",
-                };
-                return Err((key, format!("{key}: {e}")));
-            }
+            self.complementary_config(Option::None)?;
         }
         if let Some(s) = self.attitude_sigma
             && !(s.is_finite() && s > 0.0)
