@@ -1,7 +1,7 @@
 //! What a flight computer knows: the [`Estimator`] trait, the
 //! measurements it takes, and the simplest estimator, [`MocapEstimator`].
 
-use lie::{Backend, M3, V3};
+use lie::{Backend, M3, Real, V3};
 
 use crate::{BaroSample, GpsSample, ImuSample, MocapSample};
 
@@ -115,7 +115,7 @@ impl Diagnostics {
         let mut sigma = [f64::NAN; 15];
         let mut states = 0;
         for (s, d) in sigma.iter_mut().zip(diag) {
-            *s = d.max(0.0).sqrt();
+            *s = Real::sqrt(d.max(0.0));
             states += 1;
         }
         Self { sigma, states, nis }
