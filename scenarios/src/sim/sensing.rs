@@ -345,7 +345,10 @@ impl<'a, B: Backend> Sensing<'a, B> {
         }
         let est = e.estimate(t);
         self.latest.estimate = Some(NavSample::of::<B>(&est));
-        self.latest.diagnostics = e.diagnostics();
+        // Only a record reads the filter's σ and NIS.
+        if self.keep {
+            self.latest.diagnostics = e.diagnostics();
+        }
         self.estimate = Some(est);
     }
 
