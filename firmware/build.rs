@@ -7,4 +7,5 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=vectors/paper-flip-f32.bin");
+    println!("cargo:rerun-if-changed=vectors/estimators-f32.bin");
 }

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The flight-ready check: builds the Cortex-M4F test image (firmware/) for
 # thumbv7em-none-eabihf, runs it under QEMU's netduinoplus2 (an STM32F405,
-# the Crazyflie 2.x's CPU), and compares every output word with the host's
-# f32 results of the same inputs; then reports and checks what the laws
-# cost there (instructions per update, .text, stack).
+# the Crazyflie 2.x's CPU) on the laws' inputs and a recorded IMU and
+# motion-capture stream for the filters, compares every output word with
+# the host's f32 results of the same inputs; then reports and checks what
+# the laws and filters cost there (instructions per call, .text, stack).
 #
 # Installs what it needs: the target's toolchain (rustup's target if the
 # runner has one, else Debian's rustc-web with -Zbuild-std=core) and QEMU
@@ -102,34 +103,60 @@ stage "exact instruction counts: the run again, single-stepped, every executed i
 addr() { "$nm_tool" -S -C "$elf" | awk -v s="$1" '$4 == s && NF == 4 {print $1, $2}'; }
 nm_tool=$(command -v llvm-nm-22 || command -v llvm-nm || command -v rust-nm || true)
 [ -n "$nm_tool" ] || { echo "no llvm-nm on PATH"; exit 1; }
-read -r pe _ <<< "$(addr gpc_position_update)"
-read -r ae _ <<< "$(addr gpc_attitude_update)"
-read -r pw pws <<< "$(addr firmware::position)"
-read -r aw aws <<< "$(addr firmware::attitude)"
+# Each traced call: its name, the C function, the image's wrapper around
+# it, and its budget in instructions (0: reported, no budget).
+#   position: a full position-mode update in 1 % of a 500 Hz tick at 168 MHz;
+#   iekf-imu: the invariant EKF's predict, 25 000 (15 % of a 1 kHz tick);
+#   complementary-*: 2 000, what a Crazyflie-class loop spends on attitude.
+calls="position gpc_position_update firmware::position 3360
+attitude gpc_attitude_update firmware::attitude 0
+iekf-imu gpc_iekf_imu firmware::estimators::iekf_imu 25000
+iekf-mocap gpc_iekf_mocap firmware::estimators::iekf_mocap 0
+complementary-imu gpc_complementary_imu firmware::estimators::complementary_imu 2000
+complementary-mocap gpc_complementary_mocap firmware::estimators::complementary_mocap 2000"
+spec=$(while read -r name fn wrapper budget; do
+    read -r e _ <<< "$(addr "$fn")"
+    read -r w ws <<< "$(addr "$wrapper")"
+    [ -n "$e" ] && [ -n "$w" ] || { echo "no symbol $fn or $wrapper in the image" >&2; exit 1; }
+    echo "$name $e $w $(printf '%08x' $((16#$w + 16#$ws))) $budget"
+done <<< "$calls")
 fifo=$(mktemp -u) && mkfifo "$fifo"
 counts=$root/target/firmware/exact-counts.txt
 # mawk has no hex arithmetic: addresses compare as fixed-width hex strings.
-awk -v pe="$pe" -v ae="$ae" -v pw="$pw" -v pwe="$(printf '%08x' $((16#$pw + 16#$pws)))" \
-    -v aw="$aw" -v awe="$(printf '%08x' $((16#$aw + 16#$aws)))" '
+# A call counts from its entry until the trace is back in its wrapper.
+awk -v spec="$spec" '
+    BEGIN { k = split(spec, lines, "\n")
+            for (i = 1; i <= k; i++) { split(lines[i], f, " "); name[i] = f[1]; entry[i] = f[2]; lo[i] = f[3]; hi[i] = f[4] } }
     { split($4, f, "/"); pc = f[2]
-      if (pc == pe) { inp = 1; n = 0 } else if (pc == ae) { ina = 1; m = 0 }
-      if (inp) { if (pc >= pw && pc < pwe) { inp = 0; ps += n; pn++; if (n > pmax) pmax = n; if (!pmin || n < pmin) pmin = n } else n++ }
-      if (ina) { if (pc >= aw && pc < awe) { ina = 0; as += m; an++; if (m > amax) amax = m; if (!amin || m < amin) amin = m } else m++ } }
-    END { printf "position %d %d %.1f %d\nattitude %d %d %.1f %d\n", pn, pmin, ps / (pn ? pn : 1), pmax, an, amin, as / (an ? an : 1), amax }' \
+      for (i = 1; i <= k; i++) {
+        if (pc == entry[i]) { on[i] = 1; n[i] = 0 }
+        if (on[i]) {
+          if (pc >= lo[i] && pc < hi[i]) { on[i] = 0; sum[i] += n[i]; cnt[i]++; if (n[i] > max[i]) max[i] = n[i]; if (!min[i] || n[i] < min[i]) min[i] = n[i] }
+          else n[i]++ } } }
+    END { for (i = 1; i <= k; i++) printf "%s %d %d %.1f %d\n", name[i], cnt[i], min[i], sum[i] / (cnt[i] ? cnt[i] : 1), max[i] }' \
     "$fifo" > "$counts" &
 timeout 600 "${qemu[@]}" -machine netduinoplus2 -cpu cortex-m4 -nographic -monitor none \
     -semihosting-config enable=on,target=native -icount shift=0 -singlestep -d exec,nochain -D "$fifo" \
     -kernel "$elf" > /dev/null
 wait
 rm -f "$fifo"
-printf '%-10s %6s %10s %10s %10s\n' update calls min mean max
-awk '{printf "%-10s %6d %10d %10.1f %10d\n", $1, $2, $3, $4, $5}' "$counts"
-read -r _ calls _ _ pmax < <(grep '^position' "$counts")
-if [ "$calls" -ne "$(grep -c '^R ' "$out")" ] || [ "$pmax" -gt 3360 ]; then
-    echo "exact count: $calls position calls traced, at most $pmax instructions (budget 3360)"
-    exit 1
+printf '%-20s %6s %10s %10s %10s %8s\n' call calls min mean max budget
+failed=0
+while read -r name calls min mean max; do
+    budget=$(awk -v n="$name" '$1 == n {print $5}' <<< "$spec")
+    printf '%-20s %6d %10d %10.1f %10d %8s\n' "$name" "$calls" "$min" "$mean" "$max" "${budget/#0/-}"
+    if [ "$calls" -eq 0 ] || { [ "$budget" -gt 0 ] && [ "$max" -gt "$budget" ]; }; then
+        echo "  $name: $calls calls traced, at most $max instructions (budget $budget)"
+        failed=1
+    fi
+done < "$counts"
+read -r _ pcalls _ < <(grep '^position' "$counts")
+if [ "$pcalls" -ne "$(grep -c '^R ' "$out")" ]; then
+    echo "exact count: $pcalls position calls traced, $(grep -c '^R ' "$out") records"
+    failed=1
 fi
-echo "every position-mode update within 3 360 instructions (1 % of a 500 Hz tick at 168 MHz)"
+[ "$failed" = 0 ] || exit 1
+echo "every traced call within its budget"
 
 stage "sizes"
 size_tool=$(command -v llvm-size-22 || command -v llvm-size || command -v rust-size || true)
@@ -138,9 +165,14 @@ if [ -z "$size_tool" ]; then
     exit 1
 fi
 text=$("$size_tool" -A "$elf" | awk '$1 == ".text" {print $2}')
-controller=$("$nm_tool" -S -C --size-sort --radix=d "$elf" \
-    | awk '$3 ~ /^[tT]$/ && $0 ~ /(gpc_|geopid_control::|controllers::|lie::|libm::)/ {s += $2} END {print s + 0}')
-echo "image .text: $text B; the controller's functions (gpc_*, controllers, lie, libm): $controller B; heap: none (no allocator in the image)"
+# The filters' functions (their C entry points, the ABI's conversions
+# for them and the sensors crate) are counted apart from the laws'.
+read -r controller filters < <("$nm_tool" -S -C --size-sort --radix=d "$elf" \
+    | awk '$3 ~ /^[tT]$/ {
+        if ($0 ~ /(gpc_iekf|gpc_complementary|geopid_control::estimators|sensors::)/) f += $2
+        else if ($0 ~ /(gpc_|geopid_control::|controllers::|lie::|libm::)/) c += $2 }
+      END {print c + 0, f + 0}')
+echo "image .text: $text B; the laws' functions (gpc_*, controllers, lie, libm): $controller B; the filters' (gpc_iekf_*, gpc_complementary_*, sensors): $filters B; heap: none (no allocator in the image)"
 if [ "$controller" -gt 49152 ]; then
     echo "the controller's .text exceeds 48 KB"
     exit 1

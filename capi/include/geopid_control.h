@@ -28,21 +28,14 @@
 #define GPC_ROTATION_TOLERANCE 1e-3
 
 /**
- * Floats per input record: state 18, integrals 6, attitude reference 15,
- * position reference 24.
+ * Words (`uint64_t`) of a [`GpcIekf`]'s storage.
  */
-#define RECORD_FLOATS 63
+#define GPC_IEKF_WORDS 192
 
 /**
- * Bytes per input record (little-endian `f32`).
+ * Words (`uint64_t`) of a [`GpcComplementary`]'s storage.
  */
-#define RECORD_BYTES (4 * RECORD_FLOATS)
-
-/**
- * Words per printed output: the position output's 38 floats and 2 flags,
- * the attitude output's 13 floats.
- */
-#define OUTPUT_WORDS 53
+#define GPC_COMPLEMENTARY_WORDS 40
 
 /**
  * What a call did. Every function returns one; on anything but
@@ -92,6 +85,31 @@ typedef enum {
    * non-negative.
    */
   GPC_STATUS_INVALID_PERIOD = 9,
+  /**
+   * A filter's block was not made a filter of that kind by its
+   * `*_init`.
+   */
+  GPC_STATUS_NOT_INITIALIZED = 10,
+  /**
+   * A filter's configuration: a noise setting or gain out of its range
+   * (see the field's documentation), or a mounting that is not a
+   * rotation.
+   */
+  GPC_STATUS_INVALID_CONFIG = 11,
+  /**
+   * A measurement contains NaN or ±∞.
+   */
+  GPC_STATUS_NON_FINITE_MEASUREMENT = 12,
+  /**
+   * A time that is not finite, or an IMU sample earlier than the
+   * filter's time.
+   */
+  GPC_STATUS_INVALID_TIME = 13,
+  /**
+   * The filter refused the measurement: an innovation variance that was
+   * not positive (a covariance gone bad).
+   */
+  GPC_STATUS_REJECTED = 14,
 } GpcStatus;
 
 /**
@@ -347,6 +365,168 @@ typedef struct {
 } GpcAttitudeOutput;
 
 /**
+ * The noise the invariant EKF assumes and the IMU's mounting.
+ */
+typedef struct {
+  /**
+   * Gyroscope white noise, rad/s/√Hz (> 0).
+   */
+  float gyro_density;
+  /**
+   * Accelerometer white noise, m/s²/√Hz (> 0).
+   */
+  float accel_density;
+  /**
+   * Gyroscope bias random walk, rad/s/√s (≥ 0).
+   */
+  float gyro_walk;
+  /**
+   * Accelerometer bias random walk, m/s²/√s (≥ 0).
+   */
+  float accel_walk;
+  /**
+   * Motion-capture position σ, m (> 0).
+   */
+  float mocap_position;
+  /**
+   * Motion-capture attitude σ (a right perturbation), rad (> 0).
+   */
+  float mocap_attitude;
+  /**
+   * Initial σ of the position, velocity, attitude, gyroscope bias and
+   * accelerometer bias errors (m, m/s, rad, rad/s, m/s²; each > 0).
+   */
+  float initial_sigma[5];
+  /**
+   * The IMU's axes in the body frame (`R_BS`, row-major, a rotation),
+   * mounted at the centre of mass.
+   */
+  float mounting[3][3];
+  /**
+   * Gravity, m/s², acting along `+e3` (down).
+   */
+  float gravity;
+} GpcIekfConfig;
+
+/**
+ * The invariant EKF's storage. Opaque: initialise it with
+ * [`gpc_iekf_init`], then only pass it to the `gpc_iekf_*` functions (it
+ * may be copied as bytes).
+ */
+typedef struct {
+  /**
+   * The filter's words.
+   */
+  uint64_t opaque[GPC_IEKF_WORDS];
+} GpcIekf;
+
+/**
+ * One IMU sample, in the sensor's axes.
+ */
+typedef struct {
+  /**
+   * Its time, s: the end of the interval it describes.
+   */
+  double t;
+  /**
+   * Specific force, m/s².
+   */
+  float accel[3];
+  /**
+   * Angular rate, rad/s.
+   */
+  float gyro[3];
+} GpcImuSample;
+
+/**
+ * One motion-capture frame.
+ */
+typedef struct {
+  /**
+   * Its capture time, s.
+   */
+  double t;
+  /**
+   * Position, inertial frame, m.
+   */
+  float x[3];
+  /**
+   * Velocity, inertial frame, m/s (the complementary filter's; the
+   * invariant EKF reads only the pose).
+   */
+  float v[3];
+  /**
+   * Attitude (body to inertial), row-major.
+   */
+  float r[3][3];
+} GpcMocapSample;
+
+/**
+ * What the invariant EKF knows of its own accuracy.
+ */
+typedef struct {
+  /**
+   * The error covariance's diagonal, in the order position, velocity,
+   * attitude (the log of the right-invariant error), gyroscope bias,
+   * accelerometer bias.
+   */
+  float variances[15];
+  /**
+   * The gyroscope bias estimate, sensor axes rotated to the body, rad/s.
+   */
+  float gyro_bias[3];
+  /**
+   * The accelerometer bias estimate, m/s².
+   */
+  float accel_bias[3];
+  /**
+   * The last update's normalised innovation squared (6 degrees of
+   * freedom); negative before the first.
+   */
+  float nis;
+  /**
+   * IMU samples and motion-capture frames the filter refused (an
+   * innovation variance that was not positive).
+   */
+  uint32_t rejected[2];
+} GpcIekfDiagnostics;
+
+/**
+ * The complementary filter's gains and the IMU's mounting.
+ */
+typedef struct {
+  /**
+   * Attitude gain `k_P`, 1/s (≥ 0).
+   */
+  float k_p;
+  /**
+   * Gyroscope-bias gain `k_I`, 1/s² (≥ 0; below `k_P²/4` for a
+   * well-damped bias).
+   */
+  float k_i;
+  /**
+   * The longest interval one attitude correction may span, s (> 0, with
+   * `k_P · max_interval < 1`).
+   */
+  float max_interval;
+  /**
+   * The IMU's axes in the body frame (`R_BS`, row-major, a rotation).
+   */
+  float mounting[3][3];
+} GpcComplementaryConfig;
+
+/**
+ * The complementary filter's storage. Opaque, as [`GpcIekf`]: initialise
+ * it with [`gpc_complementary_init`].
+ */
+typedef struct {
+  /**
+   * The filter's words.
+   */
+  uint64_t opaque[GPC_COMPLEMENTARY_WORDS];
+} GpcComplementary;
+
+/**
  * The identity rotation, row-major (in C, an initializer:
  * `float r[3][3] = GPC_IDENTITY;`).
  */
@@ -455,6 +635,96 @@ GpcStatus gpc_state_from_z_up(const GpcState *z_up, GpcState *output);
  */
 GpcStatus gpc_position_reference_from_z_up(const GpcPositionReference *z_up,
                                            GpcPositionReference *output);
+
+/**
+ * The invariant EKF's settings for a Crazyflie-class IMU (the BMI088's
+ * densities) and a motion-capture system of 1 mm and 5 mrad, the IMU
+ * mounted along the body axes, `g = 9.81`.
+ */
+GpcIekfConfig gpc_iekf_default_config(void);
+
+/**
+ * Makes `filter` an invariant EKF with `config`, at `initial` at time `t`
+ * (s), zero biases and the configured initial covariance. The estimate
+ * may start anywhere, e.g. far from the truth: the filter's error
+ * dynamics do not depend on it. On a status other than
+ * [`GpcStatus::Ok`], `filter` is not written.
+ */
+GpcStatus gpc_iekf_init(GpcIekf *filter,
+                        const GpcIekfConfig *config,
+                        double t,
+                        const GpcState *initial_state);
+
+/**
+ * Propagates the filter to the sample's time on the previous sample's
+ * reading and holds this one's until the next. A sample earlier than the
+ * filter's time is [`GpcStatus::InvalidTime`]; a non-finite one
+ * [`GpcStatus::NonFiniteMeasurement`]; either leaves the filter as it was.
+ */
+GpcStatus gpc_iekf_imu(GpcIekf *filter, const GpcImuSample *sample);
+
+/**
+ * Corrects the filter with a motion-capture pose (position and attitude;
+ * the velocity is not read), propagated first to the frame's capture
+ * time if that is later than the filter's, else applied on arrival. A
+ * frame the filter refuses (an innovation variance that is not positive:
+ * a covariance gone bad) is [`GpcStatus::Rejected`] and changes nothing.
+ */
+GpcStatus gpc_iekf_mocap(GpcIekf *filter, const GpcMocapSample *sample);
+
+/**
+ * The state a control law reads at `t` (s): the mean carried from the
+ * filter's time on the held IMU sample, body rates from the gyroscope less
+ * its bias.
+ */
+GpcStatus gpc_iekf_estimate(const GpcIekf *filter, double t, GpcState *out);
+
+/**
+ * The covariance's diagonal, the bias estimates, the last NIS and the
+ * refusals.
+ */
+GpcStatus gpc_iekf_diagnostics(const GpcIekf *filter, GpcIekfDiagnostics *out);
+
+/**
+ * The complementary filter's default gains (`k_P = 2/s`, `k_I = 0.2/s²`,
+ * a 0.1 s cap), for attitude measurements at about 100 Hz; the IMU
+ * mounted along the body axes.
+ */
+GpcComplementaryConfig gpc_complementary_default_config(void);
+
+/**
+ * Makes `filter` a complementary filter with `config`, at `initial` (its
+ * attitude, position and velocity) at time `t` (s), zero bias. On a
+ * status other than [`GpcStatus::Ok`], `filter` is not written.
+ */
+GpcStatus gpc_complementary_init(GpcComplementary *filter,
+                                 const GpcComplementaryConfig *config,
+                                 double t,
+                                 const GpcState *initial_state);
+
+/**
+ * Turns the attitude to the sample's time on the previous sample's rate
+ * (the mean of the two, less the bias) and holds this one's. Refuses a
+ * sample as [`gpc_iekf_imu`] does.
+ */
+GpcStatus gpc_complementary_imu(GpcComplementary *filter, const GpcImuSample *sample);
+
+/**
+ * Turns the attitude toward the frame's and moves the bias against the
+ * difference; takes the frame's position and velocity.
+ */
+GpcStatus gpc_complementary_mocap(GpcComplementary *filter, const GpcMocapSample *sample);
+
+/**
+ * The state a control law reads at `t` (s): the attitude carried on the
+ * held gyroscope rate, the position carried on the frame's velocity.
+ */
+GpcStatus gpc_complementary_estimate(const GpcComplementary *filter, double t, GpcState *out);
+
+/**
+ * The gyroscope bias estimate (body frame, rad/s).
+ */
+GpcStatus gpc_complementary_gyro_bias(const GpcComplementary *filter, float (*out)[3]);
 
 #ifdef __cplusplus
 }  // extern "C"

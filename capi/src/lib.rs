@@ -55,6 +55,7 @@ extern crate std;
 
 mod check;
 mod convert;
+mod estimators;
 pub mod vectors;
 
 use check::{finite_all, rotation_ok};
@@ -64,6 +65,7 @@ use controllers::{
 };
 pub use convert::{gpc_position_reference_from_z_up, gpc_state_from_z_up, gpc_vector_from_z_up};
 use convert::{mat, rows, vec};
+pub use estimators::*;
 use lie::{GlamF32, So3Mat};
 
 type B = GlamF32;
@@ -106,6 +108,21 @@ pub enum GpcStatus {
     /// The sample period of [`gpc_integrals_step`] is not finite and
     /// non-negative.
     InvalidPeriod = 9,
+    /// A filter's block was not made a filter of that kind by its
+    /// `*_init`.
+    NotInitialized = 10,
+    /// A filter's configuration: a noise setting or gain out of its range
+    /// (see the field's documentation), or a mounting that is not a
+    /// rotation.
+    InvalidConfig = 11,
+    /// A measurement contains NaN or ±∞.
+    NonFiniteMeasurement = 12,
+    /// A time that is not finite, or an IMU sample earlier than the
+    /// filter's time.
+    InvalidTime = 13,
+    /// The filter refused the measurement: an innovation variance that was
+    /// not positive (a covariance gone bad).
+    Rejected = 14,
 }
 
 /// The rigid-body state the laws read.
@@ -599,6 +616,11 @@ pub extern "C" fn gpc_status_name(code: i32) -> *const core::ffi::c_char {
         7 => c"non-finite reference",
         8 => c"reference R_d is not a rotation",
         9 => c"invalid sample period",
+        10 => c"filter not initialised",
+        11 => c"invalid filter configuration",
+        12 => c"non-finite measurement",
+        13 => c"invalid time (not finite, or an IMU sample going back)",
+        14 => c"measurement rejected by the filter",
         _ => c"unknown status",
     };
     s.as_ptr()

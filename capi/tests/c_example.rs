@@ -1,7 +1,9 @@
-//! The C example compiles against the generated header with the system C
-//! compiler, links the static library this build made, and passes its own
-//! checks (a hover command, and NaN/∞ in every float input refused with a
-//! status and the output untouched).
+//! The C examples compile against the generated header with the system C
+//! compiler, link the static library this build made, and pass their own
+//! checks: a hover command, and NaN/∞ in every float input refused with a
+//! status and the output untouched (`hover.c`); both filters converging
+//! from a wrong start on a hover's IMU and motion capture, and the law
+//! flying on the estimate (`estimate.c`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -19,6 +21,15 @@ fn profile_dir() -> PathBuf {
 
 #[test]
 fn c_example_builds_and_passes_its_checks() {
+    build_and_run("hover");
+}
+
+#[test]
+fn c_estimation_example_builds_and_passes_its_checks() {
+    build_and_run("estimate");
+}
+
+fn build_and_run(name: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
     let lib = profile_dir().join("examples/libgeopid_control.a");
     assert!(
@@ -26,7 +37,7 @@ fn c_example_builds_and_passes_its_checks() {
         "static library not built at {}",
         lib.display()
     );
-    let out = std::env::temp_dir().join(format!("gpc-hover-{}", std::process::id()));
+    let out = std::env::temp_dir().join(format!("gpc-{name}-{}", std::process::id()));
     let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
     let status = Command::new(&cc)
         .args([
@@ -39,7 +50,7 @@ fn c_example_builds_and_passes_its_checks() {
         ])
         .arg("-I")
         .arg(dir.join("include"))
-        .arg(dir.join("examples/c/hover.c"))
+        .arg(dir.join(format!("examples/c/{name}.c")))
         .arg(&lib)
         .args(["-lm", "-lpthread", "-ldl", "-o"])
         .arg(&out)

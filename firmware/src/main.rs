@@ -1,6 +1,7 @@
-//! A Cortex-M4F test image for the C ABI's laws: runs the position and the
-//! attitude update on every stored paper-flip record, prints the bits of
-//! what they computed over semihosting (one line per record), then what
+//! A Cortex-M4F test image for the C ABI: runs the position and the
+//! attitude update on every stored paper-flip record, and both filters on
+//! a stored IMU and motion-capture stream; prints the bits of what they
+//! computed over semihosting (one line per record or event), then what
 //! they cost: the instruction count of each call from SysTick, the stack's
 //! high-water mark, and exits with a status.
 //!
@@ -16,7 +17,10 @@
 //!   measures);
 //! - `S stack <bytes>`: the deepest stack either update reached, measured
 //!   from the caller's stack pointer;
-//! - `D <records>` when done.
+//! - `D <records>` when the laws are done;
+//! - `E <index> <iekf status> <complementary status> <51 hex words>` per
+//!   stream event (see `estimators`), then their `C` lines, `S filters
+//!   <bytes>` and `F <events>`.
 
 #![no_std]
 #![no_main]
@@ -35,8 +39,10 @@ use geopid_control::{
 
 static VECTORS: &[u8] = include_bytes!("../vectors/paper-flip-f32.bin");
 
-/// How far below the caller's stack pointer the stack is painted: twice the
-/// 4 KB budget, so an overrun of the budget still shows in the count.
+mod estimators;
+
+/// How far below the caller's stack pointer the stack is painted for the
+/// laws: twice their 4 KB budget, so an overrun still shows in the count.
 const PAINT_BYTES: usize = 8 * 1024;
 const PAINT: u32 = 0xC0FF_EE11;
 
@@ -132,12 +138,13 @@ fn calibration() -> u32 {
     elapsed(start)
 }
 
-/// Fills the stack below the caller with a pattern (leaving this
-/// function's own frame alone) and returns the caller's stack pointer.
+/// Fills `depth` bytes of the stack below the caller with a pattern
+/// (leaving this function's own frame alone) and returns the caller's
+/// stack pointer.
 #[inline(never)]
-fn paint() -> usize {
+fn paint(depth: usize) -> usize {
     let sp = cortex_m::register::msp::read() as usize;
-    let low = sp - PAINT_BYTES;
+    let low = sp - depth;
     for a in (low..sp - 64).step_by(4) {
         // SAFETY: below this frame's stack pointer, inside RAM (the image
         // uses a few KB of the 128 KB), and nothing lives there.
@@ -146,9 +153,10 @@ fn paint() -> usize {
     sp
 }
 
-/// The lowest painted address that was overwritten since [`paint`].
-fn high_water(sp: usize) -> usize {
-    let low = sp - PAINT_BYTES;
+/// The lowest address of `depth` painted bytes that was overwritten since
+/// [`paint`].
+fn high_water(sp: usize, depth: usize) -> usize {
+    let low = sp - depth;
     (low..sp - 64)
         .step_by(4)
         // SAFETY: the same painted words as above.
@@ -188,10 +196,10 @@ fn main() -> ! {
             break;
         };
         let (mut p, mut a) = (GpcPositionOutput::default(), GpcAttitudeOutput::default());
-        let sp = paint();
+        let sp = paint(PAINT_BYTES);
         let (ps, pt) = position(&setup, &record, &mut p);
         let (as_, at) = attitude(&setup, &record, &mut a);
-        stack = stack.max(sp - high_water(sp));
+        stack = stack.max(sp - high_water(sp, PAINT_BYTES));
         pos_ticks.add(pt);
         att_ticks.add(at);
         cal.add(calibration());
@@ -214,6 +222,8 @@ fn main() -> ! {
     }
     let _ = writeln!(line, "S stack {stack}\nD {records}");
     emit(&mut line);
+    let events = estimators::run(&mut line);
+    ok &= events.is_some();
     debug::exit(if ok && records > 0 {
         debug::EXIT_SUCCESS
     } else {

@@ -101,6 +101,8 @@ fn populated() -> Scene {
         k_p: Some(1.0),
         k_i: Some(1.0),
         compensate_delay: Some(true),
+        q_scale: Some(1.0),
+        r_scale: Some(1.0),
     });
     s
 }

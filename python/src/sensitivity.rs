@@ -51,6 +51,7 @@ pub(crate) fn tune<'py>(
         every: every.unwrap_or(sc.record.sample),
         max_gradients: gradients,
         max_thrust: thrust_to_weight.map(|r| r * sc.vehicle.mass * sc.vehicle.gravity),
+        noise_seeds: 0,
     };
     let out = py.detach(|| {
         let reg = Registry::new();

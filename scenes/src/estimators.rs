@@ -4,6 +4,7 @@
 use lie::{Backend, Real, S, So3Mat};
 use sensors::{Estimator, Measurement, NavState, SensorSet, SensorSuite};
 
+use crate::Seeds;
 use crate::scene::{EstimatorKind, EstimatorSpec};
 
 /// Noise floors a filter assumes for a sensor the suite makes noiseless:
@@ -51,11 +52,13 @@ pub fn iekf_config(spec: &EstimatorSpec, suite: &SensorSuite, gravity: f64) -> s
 type Boxed<B> = Box<dyn Estimator<B>>;
 
 /// The estimator of `spec` for `suite`, or `None` for the truth; the key
-/// at fault and why otherwise.
+/// at fault and why otherwise. The invariant EKF's noise scales are
+/// lifted through `seeds` (a gradient may name them).
 pub fn build<B: Backend>(
     spec: &EstimatorSpec,
     suite: &SensorSuite,
     gravity: f64,
+    seeds: Seeds<'_>,
 ) -> Result<Option<Boxed<B>>, (&'static str, String)> {
     let mounting = suite.imu.map(|i| i.mounting);
     let named = |e: sensors::SensorError| ("estimator.kind", format!("estimator: {e}"));
@@ -69,7 +72,14 @@ pub fn build<B: Backend>(
             _ => Box::new(sensors::MocapEstimator::<B>::new()),
         },
         EstimatorKind::Iekf => {
-            let f = sensors::Iekf::<B>::new(iekf_config(spec, suite, gravity)).map_err(named)?;
+            let mut f =
+                sensors::Iekf::<B>::new(iekf_config(spec, suite, gravity)).map_err(named)?;
+            let (q, r) = (spec.q_scale.unwrap_or(1.0), spec.r_scale.unwrap_or(1.0));
+            f.set_noise_scales(
+                seeds.lift::<B>("estimator.q_scale", q),
+                seeds.lift::<B>("estimator.r_scale", r),
+            )
+            .map_err(|e| ("estimator.q_scale", format!("estimator: {e}")))?;
             // The history spans the longest wait and a margin of a few
             // IMU periods for measurements taken between samples.
             let late = suite

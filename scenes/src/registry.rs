@@ -327,7 +327,7 @@ pub fn builder_from<B: Backend>(
                 .control()
                 .map_err(|(k, msg)| Error::at_key(k, msg))?,
         );
-    b = with_sensing(scene, b)?;
+    b = with_sensing(scene, b, seeds)?;
     for seg in plan {
         b = b.segment(seg);
     }
@@ -621,9 +621,9 @@ pub struct Seeds<'a> {
 }
 
 /// The scene parameters a gradient can be taken with respect to: the
-/// gains, the quadrotor-family vehicle's numbers (`inertia` per axis), and
-/// the initial state per component, the attitude as a perturbation
-/// `R₀ Exp(δ)` in the body frame.
+/// gains, the quadrotor-family vehicle's numbers (`inertia` per axis), the
+/// initial state per component, the attitude as a perturbation
+/// `R₀ Exp(δ)` in the body frame, and the invariant EKF's noise scales.
 pub const PARAMETERS: &[&str] = &[
     "gains.k_x",
     "gains.k_v",
@@ -653,13 +653,28 @@ pub const PARAMETERS: &[&str] = &[
     "initial.attitude[0]",
     "initial.attitude[1]",
     "initial.attitude[2]",
+    "estimator.q_scale",
+    "estimator.r_scale",
 ];
 
 /// The scene's number behind a name of [`PARAMETERS`] (the attitude
 /// perturbation `initial.attitude[k]` has none: it is a direction at
-/// `R₀`, always 0): what a gradient's parameter reads, and what a tuning
-/// step or a finite difference changes.
+/// `R₀`, always 0; the noise scales exist only for an `iekf` estimator):
+/// what a gradient's parameter reads, and what a tuning step or a finite
+/// difference changes.
 pub fn parameter_mut<'s>(scene: &'s mut Scene, name: &str) -> Option<&'s mut f64> {
+    if let Some(scale) = name.strip_prefix("estimator.") {
+        // Only the invariant EKF reads them; 1 when the scene leaves them.
+        let e = scene
+            .estimator
+            .as_mut()
+            .filter(|e| e.kind == crate::scene::EstimatorKind::Iekf)?;
+        return match scale {
+            "q_scale" => Some(e.q_scale.get_or_insert(1.0)),
+            "r_scale" => Some(e.r_scale.get_or_insert(1.0)),
+            _ => None,
+        };
+    }
     let (g, ve, i) = (&mut scene.gains, &mut scene.vehicle, &mut scene.initial);
     Some(match name {
         "gains.k_x" => &mut g.k_x,
@@ -725,6 +740,7 @@ impl<'a> Seeds<'a> {
 fn with_sensing<B: Backend>(
     scene: &Scene,
     mut b: SimulationBuilder<'static, B>,
+    seeds: Seeds<'_>,
 ) -> Result<SimulationBuilder<'static, B>, Error> {
     let Some(spec) = &scene.sensors else {
         return Ok(b);
@@ -732,7 +748,7 @@ fn with_sensing<B: Backend>(
     let suite = spec.suite().map_err(|(k, msg)| Error::at_key(k, msg))?;
     b = b.sensors(suite, scene.seed);
     if let Some(e) = &scene.estimator
-        && let Some(est) = crate::estimators::build::<B>(e, &suite, scene.vehicle.gravity)
+        && let Some(est) = crate::estimators::build::<B>(e, &suite, scene.vehicle.gravity, seeds)
             .map_err(|(k, msg)| Error::at_key(k, msg))?
     {
         b = b.estimator(est);

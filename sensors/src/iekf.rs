@@ -165,6 +165,9 @@ pub struct Iekf<B: Backend> {
     bg: V3<B>,
     ba: V3<B>,
     p: Mat<S<B>, IEKF_DIM>,
+    /// Factors on the process noise and on the measurement variances.
+    q_scale: S<B>,
+    r_scale: S<B>,
     /// The latest IMU sample's body rate and specific force (body frame).
     held: Option<(V3<B>, V3<B>)>,
     /// The latest measurement update's normalised innovation squared and
@@ -218,6 +221,8 @@ impl<B: Backend> Iekf<B> {
             bg: ops::zero::<B>(),
             ba: ops::zero::<B>(),
             p: [[S::<B>::zero(); IEKF_DIM]; IEKF_DIM],
+            q_scale: S::<B>::one(),
+            r_scale: S::<B>::one(),
             held: None,
             nis: None,
             rejected: Rejections::default(),
@@ -239,6 +244,22 @@ impl<B: Backend> Iekf<B> {
         for (k, row) in self.p.iter_mut().enumerate() {
             row[k] = lit::<B>(sig[k / 3] * sig[k / 3]);
         }
+    }
+
+    /// Scales the noise the filter assumes: every process-noise density's
+    /// square by `q` and every measurement variance by `r` (both 1 as
+    /// configured). As scalars of the backend, a gradient can be taken
+    /// with respect to them: they are how a filter is tuned. Refused
+    /// unless both are positive and finite.
+    pub fn set_noise_scales(&mut self, q: S<B>, r: S<B>) -> Result<(), SensorError> {
+        for (field, v) in [("iekf.q_scale", q), ("iekf.r_scale", r)] {
+            let x = v.to_f64_lossless();
+            if !(x.is_finite() && x > 0.0) {
+                return Err(setting(field, x, "positive and finite"));
+            }
+        }
+        (self.q_scale, self.r_scale) = (q, r);
+        Ok(())
     }
 
     /// Replaces the error covariance (order `(ρ, ν, φ, b_g, b_a)`), e.g.
@@ -280,6 +301,10 @@ impl<B: Backend> Iekf<B> {
     /// The measurements refused so far.
     pub fn rejections(&self) -> Rejections {
         self.rejected
+    }
+    /// The estimate's time: the latest IMU sample's or measurement's, s.
+    pub fn time(&self) -> f64 {
+        self.t
     }
     /// Starts from `x0` with the configured initial covariance and zero
     /// biases: the estimate may be anything, e.g. deliberately wrong.
@@ -382,9 +407,10 @@ impl<B: Backend> Iekf<B> {
     /// (closed form, `R Rᵀ = I`), the walks' `σ² h` on the biases.
     fn add_process_noise(&self, p: &mut Mat<S<B>, IEKF_DIM>, h: S<B>, xh: M3<B>, vh: M3<B>) {
         let c = &self.cfg;
+        let hq = h * self.q_scale;
         let (qg, qa) = (
-            lit::<B>(c.gyro_density * c.gyro_density) * h,
-            lit::<B>(c.accel_density * c.accel_density) * h,
+            lit::<B>(c.gyro_density * c.gyro_density) * hq,
+            lit::<B>(c.accel_density * c.accel_density) * hq,
         );
         let id = ops::identity::<B>();
         let col = [xh, vh, id];
@@ -403,8 +429,8 @@ impl<B: Backend> Iekf<B> {
             }
         }
         let (wg, wa) = (
-            lit::<B>(c.gyro_walk * c.gyro_walk) * h,
-            lit::<B>(c.accel_walk * c.accel_walk) * h,
+            lit::<B>(c.gyro_walk * c.gyro_walk) * hq,
+            lit::<B>(c.accel_walk * c.accel_walk) * hq,
         );
         for k in 0..3 {
             p[9 + k][9 + k] += wg;
@@ -455,7 +481,7 @@ impl<B: Backend> Iekf<B> {
             for j in 0..3 {
                 h[6 + j] = -m[i][j];
             }
-            (h, res[i], lit::<B>(sigma[i] * sigma[i]))
+            (h, res[i], lit::<B>(sigma[i] * sigma[i]) * self.r_scale)
         })
     }
 
@@ -468,7 +494,7 @@ impl<B: Backend> Iekf<B> {
         // Attitude: Log(R̂ R_mᵀ) ≈ ξ_φ − R η, isotropic noise.
         let rm = So3Mat::<B>::from_matrix_unchecked(m.r);
         let res = B::vec3_to_array(self.x.rotation.compose(rm.inverse()).log());
-        let va = lit::<B>(self.cfg.mocap_attitude * self.cfg.mocap_attitude);
+        let va = lit::<B>(self.cfg.mocap_attitude * self.cfg.mocap_attitude) * self.r_scale;
         let att: [RowOf<B>; 3] = core::array::from_fn(|i| {
             let mut h = [S::<B>::zero(); IEKF_DIM];
             h[6 + i] = S::<B>::one();

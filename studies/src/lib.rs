@@ -9,6 +9,7 @@
 //! | [`sensing`] | flying on measurements: RMS error against the motion capture's latency and the sensors' noise |
 //! | [`missions`] | planned flights: the exact Ω_c, Ω̇_c against differences of the commanded attitude |
 //! | [`sensitivity`] | exact derivatives of a whole run with respect to a scene's numbers, and gain tuning on them |
+//! | [`held_out`] | a tuning on noise seeds it never saw: paired costs and a 95 % interval |
 //! | [`regress`] | the regression suite: every built-in scene against independently computed expectations |
 //! | [`stress`] | the numerical stress suite: long horizons, non-finite loads, rates, precision |
 //! | `figures` | SVG figures of runs, studies and sweeps (feature `plot`) |
@@ -29,6 +30,7 @@ pub mod estimation;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod gains;
+pub mod held_out;
 pub mod metrics;
 pub mod missions;
 pub mod montecarlo;

@@ -32,6 +32,11 @@
 //! # Ok::<(), scenes::Error>(())
 //! ```
 //!
+//! With sensors, a run's noise is a constant of its seed: the derivatives
+//! flow through the measurements of the true state and through the
+//! estimator (naming `estimator.q_scale` or `estimator.r_scale` seeds the
+//! invariant EKF's noise scales).
+//!
 //! Located events move with the parameters: a saturation crossing and a
 //! switch on `Ψ` below a threshold carry their time's derivative. A switch
 //! on a user predicate cannot (a boolean has no derivative): a gradient
@@ -229,6 +234,18 @@ fn check_seeds(scene: &Scene, seeds: &[&str]) -> Result<(), Error> {
             VehicleKind::FreeRigidBody => name.starts_with("vehicle.inertia"),
             _ => false,
         };
+        let iekf = scene
+            .estimator
+            .as_ref()
+            .is_some_and(|e| e.kind == scenes::scene::EstimatorKind::Iekf);
+        if name.starts_with("estimator.") && !iekf {
+            return bad(
+                name,
+                format!(
+                    "`{name}` is read only by an `iekf` estimator, which the scene does not fly"
+                ),
+            );
+        }
         if name.starts_with("vehicle.") && !reads {
             return bad(
                 name,
@@ -326,7 +343,7 @@ pub struct TuneStep<const K: usize> {
     pub iteration: usize,
     /// The parameters' values.
     pub values: [f64; K],
-    /// Their cost.
+    /// Their cost (the mean over the noise seeds).
     pub cost: f64,
     /// `∂cost/∂parameter`.
     pub gradient: [f64; K],
@@ -354,6 +371,73 @@ pub struct TuneSpec<'p, const K: usize> {
     /// The thrust the flight may command, N: the line search takes no
     /// step whose flight commands more at any step (`None`: no limit).
     pub max_thrust: Option<f64>,
+    /// Noise realisations the cost and its gradient are averaged over: the
+    /// scene flown with seeds `seed, seed + 1, …` (0 or 1: its own seed
+    /// alone). Averaging tunes for the noise's distribution, not for one
+    /// draw of it; [`crate::held_out`] then measures the result on seeds
+    /// the tuning never saw.
+    pub noise_seeds: usize,
+}
+
+/// `scene` with its seed advanced by `0, 1, …, n − 1` (by 0 alone for
+/// `n ≤ 1`): a Monte Carlo sample adds its index to the scene's seed.
+pub fn noise_variants(scene: &Scene, n: usize) -> Vec<Scene> {
+    (0..n.max(1) as u64)
+        .map(|i| {
+            let mut s = scene.clone();
+            s.seed = s.seed.wrapping_add(i);
+            s
+        })
+        .collect()
+}
+
+/// [`plain_flight`] averaged over `scene`'s noise variants: the mean cost
+/// and the largest thrust of any.
+fn plain_mean<C: Cost>(
+    registry: &Registry,
+    scene: &Scene,
+    every: f64,
+    noise_seeds: usize,
+    cost: &mut C,
+) -> Result<(f64, f64), Error> {
+    let variants = noise_variants(scene, noise_seeds);
+    let (mut total, mut thrust) = (0.0, 0.0f64);
+    for v in &variants {
+        let (c, f) = plain_flight(registry, v, every, cost)?;
+        total += c;
+        thrust = thrust.max(f);
+    }
+    Ok((total / variants.len() as f64, thrust))
+}
+
+/// [`gradient`] averaged over `scene`'s noise variants.
+fn gradient_mean<const K: usize, C: Cost>(
+    registry: &Registry,
+    scene: &Scene,
+    params: [&str; K],
+    every: f64,
+    noise_seeds: usize,
+    cost: &mut C,
+) -> Result<Gradient<K>, Error> {
+    let variants = noise_variants(scene, noise_seeds);
+    let n = variants.len() as f64;
+    let mut mean: Option<Gradient<K>> = None;
+    for v in &variants {
+        let g = gradient(registry, v, params, every, |t, s| cost.at(t, s))?;
+        match &mut mean {
+            None => mean = Some(g),
+            Some(m) => {
+                m.value += g.value;
+                for (a, b) in m.gradient.iter_mut().zip(g.gradient) {
+                    *a += b;
+                }
+            }
+        }
+    }
+    let mut m = mean.expect("at least one variant");
+    m.value /= n;
+    m.gradient.iter_mut().for_each(|d| *d /= n);
+    Ok(m)
 }
 
 /// Minimises `cost` over the named (positive) parameters of `scene` within
@@ -385,6 +469,7 @@ pub fn tune<const K: usize, C: Cost>(
         every,
         max_gradients,
         max_thrust,
+        noise_seeds,
     } = *spec;
     let mut best = scene.clone();
     let mut x = [0.0; K];
@@ -411,7 +496,7 @@ pub fn tune<const K: usize, C: Cost>(
         }
         s
     };
-    let (mut best_cost, mut thrust) = plain_flight(registry, &best, every, cost)?;
+    let (mut best_cost, mut thrust) = plain_mean(registry, &best, every, noise_seeds, cost)?;
     let within = |f: f64| max_thrust.is_none_or(|limit| f <= limit);
     if !within(thrust) {
         return Err(Error::Run(SimError::Setting {
@@ -425,7 +510,7 @@ pub fn tune<const K: usize, C: Cost>(
     let mut history = Vec::new();
     let mut alpha: Option<f64> = None;
     for iteration in 0..max_gradients {
-        let g = gradient(registry, &best, params, every, |t, s| cost.at(t, s))?;
+        let g = gradient_mean(registry, &best, params, every, noise_seeds, cost)?;
         // The gradient in ln(p): ∂c/∂ln p = p ∂c/∂p.
         let gl: [f64; K] = core::array::from_fn(|i| g.gradient[i] * x[i].exp());
         let norm = gl.iter().fold(0.0f64, |m, d| m.max(d.abs()));
@@ -447,7 +532,7 @@ pub fn tune<const K: usize, C: Cost>(
             });
             let moved: f64 = (0..K).map(|i| gl[i] * (x[i] - trial[i])).sum();
             step.plain_runs += 1;
-            match plain_flight(registry, &with(&trial), every, cost) {
+            match plain_mean(registry, &with(&trial), every, noise_seeds, cost) {
                 Ok((c, f)) if c <= g.value - 1e-4 * moved && moved > 0.0 && within(f) => {
                     accepted = Some((trial, c, f));
                     break;
@@ -497,6 +582,8 @@ pub struct GainTuning {
     pub max_gradients: usize,
     /// The thrust the flight may command, N (`None`: no limit).
     pub max_thrust: Option<f64>,
+    /// Noise realisations to average over (see [`TuneSpec::noise_seeds`]).
+    pub noise_seeds: usize,
 }
 
 /// [`tune`] on [`TUNED_GAINS`] with the [`Tracking`] cost of the scene's
@@ -532,6 +619,7 @@ pub fn tune_gains(
         every: spec.every,
         max_gradients: spec.max_gradients,
         max_thrust: spec.max_thrust,
+        noise_seeds: spec.noise_seeds,
     };
     tune(registry, scene, &tune_spec, &mut cost, report)
 }

@@ -204,6 +204,7 @@ fn tuning_the_gains_lowers_the_tracking_cost() {
         every,
         max_gradients: 10,
         max_thrust: None,
+        noise_seeds: 0,
     };
     let sensitivity::Tuned {
         scene: tuned,
@@ -247,6 +248,7 @@ fn difftune_circle_error_falls_3_5x_within_the_thrust_limit() {
         every: scene.integrator.dt,
         max_gradients: 8,
         max_thrust: Some(limit),
+        noise_seeds: 0,
     };
     let out = tune_gains(&reg, &scene, &spec, &mut |s| {
         println!(

@@ -101,6 +101,14 @@ pub struct EstimatorSpec {
     /// it when it arrives.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compensate_delay: Option<bool>,
+    /// For `iekf`: a factor on the process noise it assumes (every
+    /// density's square; 1 by default): above 1 it trusts the IMU less.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q_scale: Option<f64>,
+    /// For `iekf`: a factor on every measurement variance it assumes (1 by
+    /// default): above 1 it trusts the motion capture and GPS less.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r_scale: Option<f64>,
 }
 
 /// An estimator by name.
@@ -439,7 +447,7 @@ impl EstimatorSpec {
     fn check_keys(&self) -> Result<(), (&'static str, String)> {
         use EstimatorKind::*;
         let kind = self.kind;
-        let given: [(&'static str, bool, bool); 6] = [
+        let given: [(&'static str, bool, bool); 8] = [
             ("estimator.gyro_rates", self.gyro_rates, kind == Mocap),
             (
                 "estimator.attitude_error",
@@ -458,6 +466,8 @@ impl EstimatorSpec {
                 self.compensate_delay.is_some(),
                 kind == Iekf,
             ),
+            ("estimator.q_scale", self.q_scale.is_some(), kind == Iekf),
+            ("estimator.r_scale", self.r_scale.is_some(), kind == Iekf),
         ];
         if let Some((key, ..)) = given.iter().find(|(_, g, fits)| *g && !fits) {
             return Err((
@@ -479,13 +489,19 @@ impl EstimatorSpec {
         if kind == Complementary {
             self.complementary_config(Option::None)?;
         }
-        if let Some(s) = self.attitude_sigma
-            && !(s.is_finite() && s > 0.0)
-        {
-            return Err((
-                "estimator.attitude_sigma",
-                format!("`estimator.attitude_sigma` = {s}: must be positive and finite (rad)"),
-            ));
+        for (key, v, unit) in [
+            ("estimator.attitude_sigma", self.attitude_sigma, " (rad)"),
+            ("estimator.q_scale", self.q_scale, ""),
+            ("estimator.r_scale", self.r_scale, ""),
+        ] {
+            if let Some(s) = v
+                && !(s.is_finite() && s > 0.0)
+            {
+                return Err((
+                    key,
+                    format!("`{key}` = {s}: must be positive and finite{unit}"),
+                ));
+            }
         }
         Ok(())
     }
