@@ -43,7 +43,7 @@ LAYERS = {
     ],
     "studies": [
         ("metrics", ["metrics"]),
-        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity", "sensing", "missions", "estimation"]),
+        ("studies", ["gains", "montecarlo", "regress", "stress", "sensitivity", "sensing", "missions", "estimation", "held_out"]),
         ("figures", ["figures"]),
     ],
 }

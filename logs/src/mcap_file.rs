@@ -40,15 +40,17 @@ pub const REFERENCE_TOPIC: &str = "/reference/path";
 /// The topics of a run with sensors, each created at its first message:
 /// every IMU sample ([`msg::ImuReading`]), motion-capture frame
 /// ([`msg::MocapFrame`]), GPS fix ([`msg::GpsFix`]) and barometer sample
-/// ([`msg::BaroReading`]) at the time it describes, and the estimate the
+/// ([`msg::BaroReading`]) at the time it describes, the estimate the
 /// modes read at each record sample (`foxglove.PoseInFrame` in `ned`,
-/// beside `/vehicle/pose`).
-pub const SENSOR_TOPICS: [&str; 5] = [
+/// beside `/vehicle/pose`), and for a filter that keeps a covariance its
+/// standard deviations and last NIS then ([`msg::EstimateDiagnostics`]).
+pub const SENSOR_TOPICS: [&str; 6] = [
     "/sensors/imu",
     "/sensors/mocap",
     "/sensors/gps",
     "/sensors/baro",
     "/estimate/pose",
+    "/estimate/diagnostics",
 ];
 
 /// Topics written to the MCAP log (every run; see also [`STATES_TOPIC`]
@@ -63,127 +65,7 @@ pub const TOPICS: [&str; 7] = [
     "/mode",
 ];
 
-/// The messages of the `gpid` channels, described through the `foxglove`
-/// crate's derive (each type's schema is a protobuf `FileDescriptorSet`
-/// stored in the MCAP, so any protobuf reader decodes them; the poses and
-/// transforms are Foxglove's own `PoseInFrame` and `FrameTransform`). A
-/// sample's messages are written by an encoder of this crate's own, tested
-/// to produce the derive's and `prost`'s bytes exactly; these types decode
-/// them.
-pub mod msg {
-    pub use foxglove::messages::{
-        Color, FrameTransform, LinePrimitive, Point3, Pose, PoseInFrame, Quaternion, SceneEntity,
-        SceneUpdate, Timestamp, Vector3, line_primitive,
-    };
-
-    /// `/errors`: Ψ, ‖e_x‖, e_x = x − x_d, Ω and Ω_d (or Ω_c).
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct Errors {
-        /// Ψ against the active desired attitude.
-        pub psi: f64,
-        /// ‖x − x_d‖, m.
-        pub ex: f64,
-        /// x − x_d, m.
-        pub e_x: Vector3,
-        /// Body angular velocity, rad/s.
-        pub omega: Vector3,
-        /// Desired angular velocity, rad/s.
-        pub omega_d: Vector3,
-    }
-
-    /// `/command`: the commanded thrust and moment, the rotor thrusts
-    /// delivered.
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct Command {
-        /// N.
-        pub thrust: f64,
-        /// N m, body frame.
-        pub moment: Vector3,
-        /// N, one per rotor (empty without rotors).
-        pub rotor_thrusts: Vec<f64>,
-    }
-
-    /// `/integrals`: the integral states (named so because protobuf's
-    /// JSON names of `e_I` and `e_i` would collide).
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct Integrals {
-        /// e_I, the attitude integral (register slots 0–2).
-        pub attitude: Vector3,
-        /// e_i, the position integral (slots 3–5).
-        pub position: Vector3,
-    }
-
-    /// `/mode`: a switch, and the first mode at t = 0.
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct ModeSwitch {
-        /// s.
-        pub t: f64,
-        /// Segment left.
-        pub from: u32,
-        /// Segment entered.
-        pub to: u32,
-        /// Its mode's name.
-        pub mode: String,
-    }
-
-    /// `/vehicle/states`: a vehicle's internal states.
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct VehicleStates {
-        /// In the vehicle's own order.
-        pub states: Vec<f64>,
-    }
-
-    /// `/sensors/imu`: one IMU sample, in the sensor's axes.
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct ImuReading {
-        /// Its time, s.
-        pub t: f64,
-        /// Specific force, m/s² (a level IMU at rest reads −g along b3).
-        pub accel: Vector3,
-        /// Angular rate, rad/s.
-        pub gyro: Vector3,
-    }
-
-    /// `/sensors/mocap`: one motion-capture frame (world frame `ned`, rates
-    /// in the body frame).
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct MocapFrame {
-        /// Capture time, s.
-        pub t: f64,
-        /// Arrival time (capture plus latency), s.
-        pub arrival: f64,
-        /// m.
-        pub position: Vector3,
-        /// m/s.
-        pub velocity: Vector3,
-        /// Attitude, body to world.
-        pub orientation: Quaternion,
-        /// Body rates, rad/s.
-        pub omega: Vector3,
-    }
-
-    /// `/sensors/gps`: one GPS fix (world frame `ned`).
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct GpsFix {
-        /// The instant it describes, s.
-        pub t: f64,
-        /// Arrival time (plus the delay), s.
-        pub arrival: f64,
-        /// m.
-        pub position: Vector3,
-        /// m/s.
-        pub velocity: Vector3,
-    }
-
-    /// `/sensors/baro`: one barometer sample.
-    #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-    pub struct BaroReading {
-        /// Its time, s.
-        pub t: f64,
-        /// Height above the origin, m (up).
-        pub height: f64,
-    }
-}
+pub mod msg;
 
 use foxglove::Encode as _;
 use msg::{FrameTransform, PoseInFrame};
@@ -267,7 +149,7 @@ const STATES_SLOT: u8 = 7;
 const WIND_SLOT: u8 = 8;
 /// The channel slots of [`SENSOR_TOPICS`] (created at their first
 /// messages).
-const SENSOR_SLOTS: [u8; 5] = [9, 10, 11, 12, 13];
+const SENSOR_SLOTS: [u8; 6] = [9, 10, 11, 12, 13, 14];
 
 type Mcap = ChunkedMcap<BufWriter<File>>;
 
@@ -289,9 +171,9 @@ fn add_schema(w: &mut Mcap, schema: Option<foxglove::Schema>) -> std::io::Result
 struct Channels {
     w: Mcap,
     ch: [u16; 7],
-    seq: [u32; 14],
+    seq: [u32; 15],
     /// Channels created on demand: (slot, topic, schema, id once created).
-    lazy: [(u8, &'static str, Option<foxglove::Schema>, Option<u16>); 7],
+    lazy: [(u8, &'static str, Option<foxglove::Schema>, Option<u16>); 8],
     messages: u64,
 }
 
@@ -301,7 +183,7 @@ impl Channels {
         Self {
             w,
             ch,
-            seq: [0; 14],
+            seq: [0; 15],
             lazy: [
                 (STATES_SLOT, STATES_TOPIC, states, None),
                 (WIND_SLOT, WIND_TOPIC, msg::Vector3::get_schema(), None),
@@ -333,6 +215,12 @@ impl Channels {
                     SENSOR_SLOTS[4],
                     SENSOR_TOPICS[4],
                     PoseInFrame::get_schema(),
+                    None,
+                ),
+                (
+                    SENSOR_SLOTS[5],
+                    SENSOR_TOPICS[5],
+                    msg::EstimateDiagnostics::get_schema(),
                     None,
                 ),
             ],
@@ -741,6 +629,15 @@ impl Sink for McapWriter {
                 }),
             };
             self.put_encoded(SENSOR_SLOTS[4], s.t, &pose)?;
+        }
+        if let Some(d) = s.sensors.as_deref().and_then(|r| r.diagnostics) {
+            let (nis, dof) = d.nis.unwrap_or((0.0, 0));
+            let m = msg::EstimateDiagnostics {
+                sigma: d.sigma[..d.states].to_vec(),
+                nis,
+                nis_dof: dof as u32,
+            };
+            self.put_encoded(SENSOR_SLOTS[5], s.t, &m)?;
         }
         self.path_drawn.push(s);
         self.batch.samples.push(Fixed::of(s));

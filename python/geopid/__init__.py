@@ -520,13 +520,17 @@ def tune(
     thrust_to_weight: Optional[float] = 2.0,
     gradients: int = 20,
     every: Optional[float] = None,
+    noise_seeds: int = 0,
 ) -> Dict[str, Any]:
     """The gains ``k_x, k_v, k_R, k_Omega`` tuned on the exact gradient of
     the tracking cost (as ``cargo xtask tune``): projected gradient descent
     on their logarithms with a line search, each gain within
     ``[g0 / factor, g0 * factor]`` of its start, no flight commanding more
     than ``thrust_to_weight`` times the weight (``None``: no limit), at most
-    ``gradients`` gradient evaluations.
+    ``gradients`` gradient evaluations. With ``noise_seeds`` above 1 the
+    cost and its gradient are means over the scene flown with seeds
+    ``seed, ..., seed + noise_seeds - 1`` (tuning for the sensor noise's
+    distribution rather than one draw of it).
 
     Returns a dict: ``scene`` (the tuned :class:`Scene`), ``names``, and per
     iteration ``gains`` (n, 4), ``cost``, ``gradient`` (n, 4),
@@ -534,5 +538,10 @@ def tune(
     scene's. ``sqrt(cost / duration)`` is the RMS position error.
     """
     return _geopid.tune(
-        load_scene(scene), float(factor), thrust_to_weight, int(gradients), every
+        load_scene(scene),
+        float(factor),
+        thrust_to_weight,
+        int(gradients),
+        every,
+        int(noise_seeds),
     )

@@ -34,9 +34,10 @@ pub(crate) fn gradient<'py>(
 /// `k_x, k_v, k_R, k_Ω` tuned on the exact gradient of the tracking cost
 /// (`cargo xtask tune`), with the interpreter's lock released. Returns
 /// the tuned scene, each iteration's gains, cost, gradient, peak thrust
-/// and line-search runs, and the tuned scene's cost.
+/// and line-search runs, and the tuned scene's cost (each the mean over
+/// `noise_seeds` noise realisations when that is above 1).
 #[pyfunction]
-#[pyo3(signature = (scene, factor, thrust_to_weight, gradients, every=None))]
+#[pyo3(signature = (scene, factor, thrust_to_weight, gradients, every=None, noise_seeds=0))]
 pub(crate) fn tune<'py>(
     py: Python<'py>,
     scene: &Scene,
@@ -44,6 +45,7 @@ pub(crate) fn tune<'py>(
     thrust_to_weight: Option<f64>,
     gradients: usize,
     every: Option<f64>,
+    noise_seeds: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sc = &scene.inner;
     let spec = GainTuning {
@@ -51,7 +53,7 @@ pub(crate) fn tune<'py>(
         every: every.unwrap_or(sc.record.sample),
         max_gradients: gradients,
         max_thrust: thrust_to_weight.map(|r| r * sc.vehicle.mass * sc.vehicle.gravity),
-        noise_seeds: 0,
+        noise_seeds,
     };
     let out = py.detach(|| {
         let reg = Registry::new();

@@ -649,6 +649,18 @@ def test_tune_lowers_difftunes_error_3_5x_within_the_thrust_limit():
     assert abs(geopid.gradient(scene, ["gains.k_x"])[0] - out["final_cost"]) == 0.0
 
 
+def test_tune_averages_the_cost_over_noise_seeds():
+    scene = geopid.load_scene("figure-eight-estimated", duration=2.0, seed=7)
+    out = geopid.tune(scene, gradients=1, noise_seeds=3, thrust_to_weight=None)
+    # The first iteration's cost is the mean of the scene's cost on seeds
+    # 7, 8 and 9, each a plain run's (as the gradient reports it).
+    each = [
+        geopid.gradient(geopid.load_scene(scene, seed=s), ["gains.k_x"])[0] for s in (7, 8, 9)
+    ]
+    assert len(set(each)) == 3, "the seeds fly different noise"
+    assert out["cost"][0] == pytest.approx(sum(each) / 3.0, rel=1e-14)
+
+
 # --- sensors ----------------------------------------------------------------
 
 

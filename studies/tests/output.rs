@@ -578,3 +578,49 @@ fn the_reference_path_is_a_line_strip_per_segment_in_the_log() {
     assert!((a.z - b.z - 1.0).abs() < 1e-9 && a.x == b.x && a.y == b.y);
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn the_mcap_holds_a_filters_sigmas_and_nis() {
+    let mut scene = builtin::hover_estimated();
+    scene.duration = 1.0;
+    let out = scenes::run(&scene, Default::default()).unwrap();
+    let path = std::env::temp_dir().join(format!("geopid-est-diag-{}.mcap", std::process::id()));
+    logs::write_mcap(&path, &out).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    let diag: Vec<Vec<u8>> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .filter(|m| m.channel.topic == "/estimate/diagnostics")
+        .map(|m| m.data.into_owned())
+        .collect();
+    // One message per record sample; the last one's fields (σ, NIS, its
+    // degrees of freedom) are the run's last readout.
+    assert_eq!(diag.len(), out.samples.len());
+    let fields = wire(diag.last().unwrap());
+    // σ: field 1, packed or one double per element.
+    let sigma: Vec<f64> = fields
+        .iter()
+        .flat_map(|(f, w)| match (f, w) {
+            (1, Wire::Bytes(b)) => b
+                .chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                .collect(),
+            (1, Wire::F64(x)) => vec![*x],
+            _ => vec![],
+        })
+        .collect();
+    let dof = fields.iter().find_map(|(f, w)| match (f, w) {
+        (3, Wire::Varint(v)) => Some(*v),
+        _ => None,
+    });
+    let want = out.last.sensors.as_deref().unwrap().diagnostics.unwrap();
+    let (nis, k) = want.nis.unwrap();
+    assert_eq!(sigma, want.sigma[..want.states].to_vec());
+    assert_eq!((f64_field(&fields, 2), dof), (nis, Some(k as u64)));
+    // After 1 s of 1 cm frames at 100 Hz the position σ is a few mm.
+    assert!(
+        sigma.len() == 15 && sigma[0] > 1e-4 && sigma[0] < 5e-3,
+        "{sigma:?}"
+    );
+}
