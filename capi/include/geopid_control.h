@@ -658,8 +658,9 @@ GpcStatus gpc_iekf_init(GpcIekf *filter,
 /**
  * Propagates the filter to the sample's time on the previous sample's
  * reading and holds this one's until the next. A sample earlier than the
- * filter's time is [`GpcStatus::InvalidTime`]; a non-finite one
- * [`GpcStatus::NonFiniteMeasurement`]; either leaves the filter as it was.
+ * previous one (or than the start) is [`GpcStatus::InvalidTime`]; a
+ * non-finite one [`GpcStatus::NonFiniteMeasurement`]; either leaves the
+ * filter as it was.
  */
 GpcStatus gpc_iekf_imu(GpcIekf *filter, const GpcImuSample *sample);
 

@@ -57,14 +57,22 @@ pub const GPC_COMPLEMENTARY_WORDS: usize = 40;
 const IEKF_TAG: u64 = u64::from_le_bytes(*b"gpc iekf");
 const COMPLEMENTARY_TAG: u64 = u64::from_le_bytes(*b"gpc comp");
 
+/// What a block holds after its tag: the filter and the latest IMU
+/// sample's time (a sample before it goes back in time; a frame may have
+/// carried the filter itself past it).
+struct Held<F> {
+    filter: F,
+    last_imu: f64,
+}
+
 // The filters live in the words after the tag: they must fit, need at most
 // the words' alignment, and own nothing to drop (a block is overwritten or
 // abandoned freely).
 const _: () = {
-    assert!(size_of::<Iekf<B>>() <= 8 * (GPC_IEKF_WORDS - 1));
-    assert!(size_of::<Complementary<B>>() <= 8 * (GPC_COMPLEMENTARY_WORDS - 1));
-    assert!(align_of::<Iekf<B>>() <= 8 && align_of::<Complementary<B>>() <= 8);
-    assert!(!needs_drop::<Iekf<B>>() && !needs_drop::<Complementary<B>>());
+    assert!(size_of::<Held<Iekf<B>>>() <= 8 * (GPC_IEKF_WORDS - 1));
+    assert!(size_of::<Held<Complementary<B>>>() <= 8 * (GPC_COMPLEMENTARY_WORDS - 1));
+    assert!(align_of::<Held<Iekf<B>>>() <= 8 && align_of::<Held<Complementary<B>>>() <= 8);
+    assert!(!needs_drop::<Held<Iekf<B>>>() && !needs_drop::<Held<Complementary<B>>>());
 };
 
 /// The invariant EKF's storage. Opaque: initialise it with
@@ -306,35 +314,60 @@ fn to_state(n: &NavState<B>) -> GpcState {
     }
 }
 
-fn iekf_ref(f: &GpcIekf) -> Option<&Iekf<B>> {
-    // SAFETY: see `place`: an initialised block holds a filter after its tag.
-    (f.opaque[0] == IEKF_TAG).then(|| unsafe { &*(f.opaque[1..].as_ptr() as *const Iekf<B>) })
+/// The filter of type `T` a block tagged `tag` holds. Each tag is written
+/// only by the `*_init` of its type (`IEKF_TAG`: `Iekf`,
+/// `COMPLEMENTARY_TAG`: `Complementary`), and each caller here pairs them
+/// so.
+fn held<T>(words: &[u64], tag: u64) -> Option<&Held<T>> {
+    // SAFETY: a block carries `tag` only after `place` wrote a `Held<T>`
+    // behind it (see `place` for size and alignment).
+    (words[0] == tag).then(|| unsafe { &*(words[1..].as_ptr() as *const Held<T>) })
 }
 
-fn iekf_mut(f: &mut GpcIekf) -> Option<&mut Iekf<B>> {
-    // SAFETY: as `iekf_ref`.
-    (f.opaque[0] == IEKF_TAG).then(|| unsafe { &mut *(f.opaque[1..].as_mut_ptr() as *mut Iekf<B>) })
+/// [`held`], mutable.
+fn held_mut<T>(words: &mut [u64], tag: u64) -> Option<&mut Held<T>> {
+    // SAFETY: as `held`.
+    (words[0] == tag).then(|| unsafe { &mut *(words[1..].as_mut_ptr() as *mut Held<T>) })
 }
 
-fn complementary_ref(f: &GpcComplementary) -> Option<&Complementary<B>> {
-    // SAFETY: as `iekf_ref`.
-    (f.opaque[0] == COMPLEMENTARY_TAG)
-        .then(|| unsafe { &*(f.opaque[1..].as_ptr() as *const Complementary<B>) })
+fn iekf_ref(f: &GpcIekf) -> Option<&Held<Iekf<B>>> {
+    held(&f.opaque, IEKF_TAG)
 }
 
-fn complementary_mut(f: &mut GpcComplementary) -> Option<&mut Complementary<B>> {
-    // SAFETY: as `iekf_ref`.
-    (f.opaque[0] == COMPLEMENTARY_TAG)
-        .then(|| unsafe { &mut *(f.opaque[1..].as_mut_ptr() as *mut Complementary<B>) })
+fn iekf_mut(f: &mut GpcIekf) -> Option<&mut Held<Iekf<B>>> {
+    held_mut(&mut f.opaque, IEKF_TAG)
 }
 
-/// Writes `filter` into the words after the tag, then the tag.
-fn place<T>(words: &mut [u64], tag: u64, filter: T) {
-    // SAFETY: the words behind the tag are big and aligned enough for `T`
-    // (the compile-time checks above) and `T` owns nothing to drop, so
-    // overwriting whatever was there (an older filter, or nothing) is sound.
-    unsafe { core::ptr::write(words[1..].as_mut_ptr() as *mut T, filter) };
+fn complementary_ref(f: &GpcComplementary) -> Option<&Held<Complementary<B>>> {
+    held(&f.opaque, COMPLEMENTARY_TAG)
+}
+
+fn complementary_mut(f: &mut GpcComplementary) -> Option<&mut Held<Complementary<B>>> {
+    held_mut(&mut f.opaque, COMPLEMENTARY_TAG)
+}
+
+/// Writes `filter`, started at `t`, into the words after the tag, then
+/// the tag.
+fn place<T>(words: &mut [u64], tag: u64, filter: T, t: f64) {
+    let h = Held {
+        filter,
+        last_imu: t,
+    };
+    // SAFETY: the words behind the tag are big and aligned enough for
+    // `Held<T>` (the compile-time checks above) and it owns nothing to
+    // drop, so overwriting whatever was there (an older filter, or
+    // nothing) is sound.
+    unsafe { core::ptr::write(words[1..].as_mut_ptr() as *mut Held<T>, h) };
     words[0] = tag;
+}
+
+/// Feeds an IMU sample to a held filter, unless it goes back before the
+/// latest one or is not finite.
+fn feed_imu<F: Estimator<B>>(h: &mut Held<F>, s: &GpcImuSample) -> Result<(), GpcStatus> {
+    let m = imu(s, h.last_imu)?;
+    h.filter.update(&m);
+    h.last_imu = s.t;
+    Ok(())
 }
 
 /// The invariant EKF's settings for a Crazyflie-class IMU (the BMI088's
@@ -387,7 +420,7 @@ pub extern "C" fn gpc_iekf_init(
     });
     match built {
         Ok(e) => {
-            place(&mut f.opaque, IEKF_TAG, e);
+            place(&mut f.opaque, IEKF_TAG, e, t);
             GpcStatus::Ok
         }
         Err(status) => status,
@@ -396,8 +429,9 @@ pub extern "C" fn gpc_iekf_init(
 
 /// Propagates the filter to the sample's time on the previous sample's
 /// reading and holds this one's until the next. A sample earlier than the
-/// filter's time is [`GpcStatus::InvalidTime`]; a non-finite one
-/// [`GpcStatus::NonFiniteMeasurement`]; either leaves the filter as it was.
+/// previous one (or than the start) is [`GpcStatus::InvalidTime`]; a
+/// non-finite one [`GpcStatus::NonFiniteMeasurement`]; either leaves the
+/// filter as it was.
 #[unsafe(no_mangle)]
 pub extern "C" fn gpc_iekf_imu(
     filter: Option<&mut GpcIekf>,
@@ -406,11 +440,13 @@ pub extern "C" fn gpc_iekf_imu(
     let (Some(f), Some(s)) = (filter, sample) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = iekf_mut(f) else {
+    let Some(h) = iekf_mut(f) else {
         return GpcStatus::NotInitialized;
     };
-    match imu(s, e.time()) {
-        Ok(m) => updated(e, &m, |r| r.imu),
+    let before = h.filter.rejections().imu;
+    match feed_imu(h, s) {
+        Ok(()) if h.filter.rejections().imu == before => GpcStatus::Ok,
+        Ok(()) => GpcStatus::Rejected,
         Err(status) => status,
     }
 }
@@ -428,23 +464,16 @@ pub extern "C" fn gpc_iekf_mocap(
     let (Some(f), Some(s)) = (filter, sample) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = iekf_mut(f) else {
+    let Some(h) = iekf_mut(f) else {
         return GpcStatus::NotInitialized;
     };
-    match mocap(s) {
-        Ok(m) => updated(e, &m, |r| r.mocap),
-        Err(status) => status,
-    }
-}
-
-fn updated(
-    e: &mut Iekf<B>,
-    m: &Measurement<B>,
-    count: fn(sensors::Rejections) -> u64,
-) -> GpcStatus {
-    let before = count(e.rejections());
-    e.update(m);
-    if count(e.rejections()) == before {
+    let m = match mocap(s) {
+        Ok(m) => m,
+        Err(status) => return status,
+    };
+    let before = h.filter.rejections().mocap;
+    h.filter.update(&m);
+    if h.filter.rejections().mocap == before {
         GpcStatus::Ok
     } else {
         GpcStatus::Rejected
@@ -463,13 +492,13 @@ pub extern "C" fn gpc_iekf_estimate(
     let (Some(f), Some(out)) = (filter, out) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = iekf_ref(f) else {
+    let Some(h) = iekf_ref(f) else {
         return GpcStatus::NotInitialized;
     };
     if !t.is_finite() {
         return GpcStatus::InvalidTime;
     }
-    *out = to_state(&e.estimate(t));
+    *out = to_state(&h.filter.estimate(t));
     GpcStatus::Ok
 }
 
@@ -483,9 +512,10 @@ pub extern "C" fn gpc_iekf_diagnostics(
     let (Some(f), Some(out)) = (filter, out) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = iekf_ref(f) else {
+    let Some(h) = iekf_ref(f) else {
         return GpcStatus::NotInitialized;
     };
+    let e = &h.filter;
     let p = e.covariance();
     let (bg, ba) = e.biases();
     let r = e.rejections();
@@ -534,7 +564,7 @@ pub extern "C" fn gpc_complementary_init(
     });
     match built {
         Ok(e) => {
-            place(&mut f.opaque, COMPLEMENTARY_TAG, e);
+            place(&mut f.opaque, COMPLEMENTARY_TAG, e, t);
             GpcStatus::Ok
         }
         Err(status) => status,
@@ -552,14 +582,11 @@ pub extern "C" fn gpc_complementary_imu(
     let (Some(f), Some(s)) = (filter, sample) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = complementary_mut(f) else {
+    let Some(h) = complementary_mut(f) else {
         return GpcStatus::NotInitialized;
     };
-    match imu(s, e.time()) {
-        Ok(m) => {
-            e.update(&m);
-            GpcStatus::Ok
-        }
+    match feed_imu(h, s) {
+        Ok(()) => GpcStatus::Ok,
         Err(status) => status,
     }
 }
@@ -574,12 +601,12 @@ pub extern "C" fn gpc_complementary_mocap(
     let (Some(f), Some(s)) = (filter, sample) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = complementary_mut(f) else {
+    let Some(h) = complementary_mut(f) else {
         return GpcStatus::NotInitialized;
     };
     match mocap(s) {
         Ok(m) => {
-            e.update(&m);
+            h.filter.update(&m);
             GpcStatus::Ok
         }
         Err(status) => status,
@@ -597,13 +624,13 @@ pub extern "C" fn gpc_complementary_estimate(
     let (Some(f), Some(out)) = (filter, out) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = complementary_ref(f) else {
+    let Some(h) = complementary_ref(f) else {
         return GpcStatus::NotInitialized;
     };
     if !t.is_finite() {
         return GpcStatus::InvalidTime;
     }
-    *out = to_state(&e.estimate(t));
+    *out = to_state(&h.filter.estimate(t));
     GpcStatus::Ok
 }
 
@@ -616,9 +643,9 @@ pub extern "C" fn gpc_complementary_gyro_bias(
     let (Some(f), Some(out)) = (filter, out) else {
         return GpcStatus::NullPointer;
     };
-    let Some(e) = complementary_ref(f) else {
+    let Some(h) = complementary_ref(f) else {
         return GpcStatus::NotInitialized;
     };
-    *out = e.bias().to_array();
+    *out = h.filter.bias().to_array();
     GpcStatus::Ok
 }

@@ -465,3 +465,52 @@ fn bad_input_is_a_status_and_leaves_the_filter_as_it_was() {
         );
     }
 }
+
+#[test]
+fn a_frame_captured_ahead_of_the_imu_does_not_refuse_the_next_sample() {
+    // Mocap at 0.0105 s between IMU samples at 0.010 and 0.011 s: the frame
+    // carries the filter past the latest sample, and the next sample,
+    // later than the latest one, is taken.
+    let init = start([0.0; 3]);
+    let mut f = GpcIekf::default();
+    let mut c = GpcComplementary::default();
+    gpc_iekf_init(
+        Some(&mut f),
+        Some(&gpc_iekf_default_config()),
+        0.0,
+        Some(&init),
+    );
+    let ccfg = gpc_complementary_default_config();
+    gpc_complementary_init(Some(&mut c), Some(&ccfg), 0.0, Some(&init));
+    let imu = |t: f64| GpcImuSample {
+        t,
+        accel: [0.0, 0.0, -9.81],
+        gyro: [0.0; 3],
+    };
+    let frame = GpcMocapSample {
+        t: 0.0105,
+        x: init.x,
+        v: init.v,
+        r: init.r,
+    };
+    assert_eq!(gpc_iekf_imu(Some(&mut f), Some(&imu(0.010))), GpcStatus::Ok);
+    assert_eq!(
+        gpc_complementary_imu(Some(&mut c), Some(&imu(0.010))),
+        GpcStatus::Ok
+    );
+    assert_eq!(gpc_iekf_mocap(Some(&mut f), Some(&frame)), GpcStatus::Ok);
+    assert_eq!(
+        gpc_complementary_mocap(Some(&mut c), Some(&frame)),
+        GpcStatus::Ok
+    );
+    assert_eq!(gpc_iekf_imu(Some(&mut f), Some(&imu(0.011))), GpcStatus::Ok);
+    assert_eq!(
+        gpc_complementary_imu(Some(&mut c), Some(&imu(0.011))),
+        GpcStatus::Ok
+    );
+    // A sample before the latest one goes back in time.
+    assert_eq!(
+        gpc_iekf_imu(Some(&mut f), Some(&imu(0.0108))),
+        GpcStatus::InvalidTime
+    );
+}
