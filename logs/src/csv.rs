@@ -22,9 +22,10 @@ const CSV_FIXED: usize = 25;
 /// Numbers a run with sensors adds after the vehicle's states: the
 /// estimate (x, v, R by rows, Ω), the latest accelerometer and gyroscope
 /// readings, motion-capture and GPS positions and barometric height, the
-/// estimator's 15 standard deviations (its own error states, in its order)
-/// and last NIS, each `NaN` where the run has not got it.
-const SENSOR_COLUMNS: usize = 47;
+/// estimator's 15 standard deviations (its own error states, in its order),
+/// last NIS and last innovation (6), each `NaN` where the run has not got
+/// it.
+const SENSOR_COLUMNS: usize = 53;
 
 /// The names of the [`SENSOR_COLUMNS`], comma first.
 fn sensor_header() -> String {
@@ -47,6 +48,7 @@ fn sensor_header() -> String {
     add("baro_h", 1);
     add("est_sigma", 15);
     add("est_nis", 1);
+    add("est_innov", 6);
     h.replace(",baro_h1", ",baro_h")
         .replace(",est_nis1", ",est_nis")
 }
@@ -74,8 +76,9 @@ fn sensor_numbers(s: &Sample, out: &mut Vec<f64>) {
         Some(d) => {
             out.extend_from_slice(&d.sigma);
             out.push(d.nis.map_or(f64::NAN, |n| n.0));
+            out.extend_from_slice(&d.innovation);
         }
-        None => out.extend_from_slice(&[f64::NAN; 16]),
+        None => out.extend_from_slice(&[f64::NAN; 22]),
     }
 }
 

@@ -636,6 +636,7 @@ impl Sink for McapWriter {
                 sigma: d.sigma[..d.states].to_vec(),
                 nis,
                 nis_dof: dof as u32,
+                innovation: d.innovation[..dof.min(6)].to_vec(),
             };
             self.put_encoded(SENSOR_SLOTS[5], s.t, &m)?;
         }

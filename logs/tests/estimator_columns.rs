@@ -39,6 +39,12 @@ fn the_csv_holds_the_filters_sigmas_and_nis() {
     );
     assert!(num("est_sigma7") < 4.5e-3, "{row:?}");
     assert!(num("est_sigma15").is_finite() && num("est_nis").is_finite());
+    // The last frame's innovation: 1 cm frames against an estimate of a
+    // few mm; the attitude's against 4.5 mrad frames.
+    assert!(
+        num("est_innov1").abs() < 0.05 && num("est_innov6").abs() < 0.03,
+        "{row:?}"
+    );
     let (header, row) = last_row(EstimatorKind::Mocap);
     let i = header.iter().position(|c| c == "est_sigma1").unwrap();
     assert_eq!(row[i], "NaN", "the mocap estimator keeps no covariance");

@@ -198,9 +198,10 @@ fn measurements<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bound<'py, Py
 
 /// The estimate the modes read at each record sample (`x`, `v`, `R`,
 /// `omega`; for a filter that keeps a covariance also `sigma`, the
-/// standard deviations of its error states, `NaN` past its count, and
-/// `nis`, its last correction's NIS), or `None` for a run without an
-/// estimator.
+/// standard deviations of its error states, `NaN` past its count, `nis`,
+/// its last correction's NIS, and `innovation`, that correction's
+/// measured minus predicted, `NaN` past its count), or `None` for a run
+/// without an estimator.
 fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py, PyDict>>> {
     let est: Vec<scenarios::NavSample> = out
         .samples
@@ -228,6 +229,8 @@ fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py,
             .map(|d| d.nis.map_or(f64::NAN, |n| n.0))
             .collect();
         d.set_item("nis", array(py, &[diag.len()], nis)?)?;
+        let innov: Vec<f64> = diag.iter().flat_map(|d| d.innovation).collect();
+        d.set_item("innovation", array(py, &[diag.len(), 6], innov)?)?;
     }
     Ok(Some(d))
 }

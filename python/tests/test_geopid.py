@@ -700,6 +700,12 @@ def test_the_invariant_ekf_beats_the_raw_mocap_on_the_figure_eight():
     assert res.estimate["sigma"].shape == (res.t.size, 15)
     assert 1e-4 < res.estimate["sigma"][-1, 0] < 5e-3
     assert np.isfinite(res.estimate["nis"][-1])
+    # The last mocap correction's innovation: 1 cm frames against an
+    # estimate of a few mm, so centimetres at most, and its NIS is the
+    # innovation weighed by its covariance (positive).
+    innov = res.estimate["innovation"]
+    assert innov.shape == (res.t.size, 6) and np.all(np.isfinite(innov[-1]))
+    assert np.abs(innov[-1, :3]).max() < 0.05
     comp = geopid.run("figure-eight-estimated", duration=4.0, estimator="complementary")
     assert comp.estimate is not None and "sigma" not in comp.estimate
 

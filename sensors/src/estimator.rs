@@ -97,8 +97,8 @@ impl SensorSet {
 
 /// What a filter knows of its own accuracy: the standard deviations of its
 /// error states (the first `states` of `sigma`, in its own coordinates and
-/// order) and its last correction's normalised innovation squared with
-/// that correction's degrees of freedom.
+/// order), its last correction's normalised innovation squared with that
+/// correction's degrees of freedom, and that correction's innovation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Diagnostics {
     /// Standard deviations; `NaN` past `states`.
@@ -107,10 +107,15 @@ pub struct Diagnostics {
     pub states: usize,
     /// The last correction's NIS and degrees of freedom.
     pub nis: Option<(f64, usize)>,
+    /// The last correction's innovation, measured minus predicted, in the
+    /// filter's measurement coordinates and order (the invariant EKF's
+    /// mocap update: position, then attitude as `Log(R_m R̂ᵀ)`); its first
+    /// `nis.1` entries, `NaN` past them and before the first correction.
+    pub innovation: [f64; 6],
 }
 
 impl Diagnostics {
-    /// From a covariance's diagonal.
+    /// From a covariance's diagonal, without an innovation.
     pub fn of_diagonal(diag: impl Iterator<Item = f64>, nis: Option<(f64, usize)>) -> Self {
         let mut sigma = [f64::NAN; 15];
         let mut states = 0;
@@ -118,7 +123,20 @@ impl Diagnostics {
             *s = Real::sqrt(d.max(0.0));
             states += 1;
         }
-        Self { sigma, states, nis }
+        Self {
+            sigma,
+            states,
+            nis,
+            innovation: [f64::NAN; 6],
+        }
+    }
+
+    /// With the last correction's innovation (at most 6 entries).
+    pub fn with_innovation(mut self, innovation: impl Iterator<Item = f64>) -> Self {
+        for (slot, v) in self.innovation.iter_mut().zip(innovation) {
+            *slot = v;
+        }
+        self
     }
 }
 

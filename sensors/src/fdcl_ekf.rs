@@ -84,6 +84,8 @@ pub struct FdclEkf<B: Backend> {
     t: f64,
     rejected: u64,
     nis: Option<(f64, usize)>,
+    /// The latest update's innovation (measured minus predicted).
+    innovation: [S<B>; 6],
 }
 
 fn lit<B: Backend>(x: f64) -> S<B> {
@@ -163,6 +165,7 @@ impl<B: Backend> FdclEkf<B> {
             t: 0.0,
             rejected: 0,
             nis: None,
+            innovation: [S::<B>::zero(); 6],
         }
     }
 
@@ -306,6 +309,9 @@ impl<B: Backend> FdclEkf<B> {
             a + dz[i] * (0..M).fold(S::<B>::zero(), |b, j| b + si[i][j] * dz[j])
         });
         self.nis = Some((nis.to_f64_lossless(), M));
+        for (slot, d) in self.innovation.iter_mut().zip(dz) {
+            *slot = *d;
+        }
         Some(mul(&ph, &si))
     }
 
@@ -398,7 +404,9 @@ impl<B: Backend> Estimator<B> for FdclEkf<B> {
     }
     fn diagnostics(&self) -> Option<crate::Diagnostics> {
         let d = (0..FDCL_DIM).map(|i| self.p[i][i].to_f64_lossless());
-        Some(crate::Diagnostics::of_diagonal(d, self.nis))
+        let n = self.nis.map_or(0, |(_, k)| k);
+        let innovation = self.innovation[..n].iter().map(|v| v.to_f64_lossless());
+        Some(crate::Diagnostics::of_diagonal(d, self.nis).with_innovation(innovation))
     }
     fn estimate(&self, _t: f64) -> NavState<B> {
         NavState {

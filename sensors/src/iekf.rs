@@ -171,8 +171,10 @@ pub struct Iekf<B: Backend> {
     /// The latest IMU sample's body rate and specific force (body frame).
     held: Option<(V3<B>, V3<B>)>,
     /// The latest measurement update's normalised innovation squared and
-    /// its degrees of freedom.
+    /// its degrees of freedom, and its rows' residuals (predicted minus
+    /// measured) at the prior.
     nis: Option<(f64, usize)>,
+    residuals: [S<B>; 6],
     rejected: Rejections,
 }
 
@@ -225,6 +227,7 @@ impl<B: Backend> Iekf<B> {
             r_scale: S::<B>::one(),
             held: None,
             nis: None,
+            residuals: [S::<B>::zero(); 6],
             rejected: Rejections::default(),
         };
         f.reset_covariance();
@@ -462,6 +465,9 @@ impl<B: Backend> Iekf<B> {
         symmetrize(&mut p);
         self.p = p;
         self.nis = Some((nis, rows.len()));
+        for (slot, (_, r, _)) in self.residuals.iter_mut().zip(rows) {
+            *slot = *r;
+        }
         true
     }
 
@@ -590,7 +596,9 @@ impl<B: Backend> Estimator<B> for Iekf<B> {
     }
     fn diagnostics(&self) -> Option<crate::Diagnostics> {
         let d = (0..IEKF_DIM).map(|i| self.p[i][i].to_f64_lossless());
-        Some(crate::Diagnostics::of_diagonal(d, self.nis))
+        let n = self.nis.map_or(0, |(_, k)| k);
+        let innovation = self.residuals[..n].iter().map(|r| -r.to_f64_lossless());
+        Some(crate::Diagnostics::of_diagonal(d, self.nis).with_innovation(innovation))
     }
     fn estimate(&self, t: f64) -> NavState<B> {
         let x = self.mean_at(t);

@@ -225,6 +225,64 @@ fn converges_from_large_attitude_errors() {
 }
 
 #[test]
+fn the_innovation_is_the_frame_against_the_prior_estimate() {
+    // Level at rest, the estimate told 2 cm and 0.05 rad off; one frame of
+    // the truth at t = 0.1 s. The reported innovation is the frame's
+    // position minus the estimate's just before it, then the attitude's
+    // Log(R_m R̂ᵀ) (measured minus predicted, the invariant EKF's rows).
+    let (_, _, cfg) = setup(0.05);
+    let mut f = Iekf::<B>::new(cfg).unwrap();
+    let off = lie::So3Mat::<B>::exp(v([0.05, -0.02, 0.01]));
+    f.reset(
+        0.0,
+        &NavState {
+            x: v([0.02, 0.0, -1.0]),
+            r: off.as_matrix(),
+            ..NavState::at_rest()
+        },
+    );
+    assert!(
+        f.diagnostics()
+            .unwrap()
+            .innovation
+            .iter()
+            .all(|x| x.is_nan())
+    );
+    for k in 1..=100 {
+        f.update(&Measurement::Imu(sensors::ImuSample {
+            k,
+            t: k as f64 * 1e-3,
+            accel: v([0.0, 0.0, -G]),
+            gyro: v([0.0; 3]),
+            attitude: None,
+        }));
+    }
+    let prior = f.estimate(0.1);
+    let frame = sensors::MocapSample::<B> {
+        k: 10,
+        t: 0.1,
+        x: v([0.0, 0.0, -1.0]),
+        v: v([0.0; 3]),
+        r: ops::identity::<B>(),
+        omega: v([0.0; 3]),
+    };
+    f.update(&Measurement::Mocap(frame));
+    let d = f.diagnostics().unwrap();
+    let dx = frame.x - prior.x;
+    let dr = lie::So3Mat::<B>::from_matrix_unchecked(frame.r * prior.r.transpose()).log();
+    let want = [dx[0], dx[1], dx[2], dr[0], dr[1], dr[2]];
+    for (k, (got, want)) in d.innovation.iter().zip(want).enumerate() {
+        // Both sides are the same few roundings of the same numbers.
+        assert!((got - want).abs() < 1e-15, "{k}: {got} vs {want}");
+    }
+    assert_eq!(d.nis.unwrap().1, 6);
+    assert!(
+        d.innovation[3].abs() > 0.04,
+        "the 0.05 rad error shows: {d:?}"
+    );
+}
+
+#[test]
 fn a_non_finite_measurement_is_counted_and_ignored() {
     let (_, _, cfg) = setup(0.05);
     let mut f = Iekf::<B>::new(cfg).unwrap();

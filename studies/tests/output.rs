@@ -618,6 +618,18 @@ fn the_mcap_holds_a_filters_sigmas_and_nis() {
     let (nis, k) = want.nis.unwrap();
     assert_eq!(sigma, want.sigma[..want.states].to_vec());
     assert_eq!((f64_field(&fields, 2), dof), (nis, Some(k as u64)));
+    let innovation: Vec<f64> = fields
+        .iter()
+        .flat_map(|(f, w)| match (f, w) {
+            (4, Wire::Bytes(b)) => b
+                .chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                .collect(),
+            (4, Wire::F64(x)) => vec![*x],
+            _ => vec![],
+        })
+        .collect();
+    assert_eq!(innovation, want.innovation[..k].to_vec());
     // After 1 s of 1 cm frames at 100 Hz the position σ is a few mm.
     assert!(
         sigma.len() == 15 && sigma[0] > 1e-4 && sigma[0] < 5e-3,
