@@ -25,7 +25,7 @@ use lie::num_traits::{One, Zero};
 use lie::{Backend, M3, Real, S, V3, ops, so3};
 
 use crate::estimator::{Estimator, Measurement, NavState, SensorSet};
-use crate::kalman::{Mat, mul, spd_inverse, transpose};
+use crate::kalman::{self, Mat, mul, spd_inverse, transpose};
 
 /// `(x, v, a, R, Ω)`, as their `get_states` returns them.
 pub type States<B> = (V3<B>, V3<B>, V3<B>, M3<B>, V3<B>);
@@ -102,25 +102,6 @@ fn put<B: Backend, const R: usize, const C: usize>(
     for (i, row) in ops::elems::<B>(m).iter().enumerate() {
         out[r0 + i][c0..c0 + 3].copy_from_slice(row);
     }
-}
-
-fn identity<B: Backend, const N: usize>() -> Mat<S<B>, N> {
-    core::array::from_fn(|i| {
-        core::array::from_fn(|j| {
-            if i == j {
-                S::<B>::one()
-            } else {
-                S::<B>::zero()
-            }
-        })
-    })
-}
-
-fn add<B: Backend, const R: usize, const C: usize>(
-    a: &[[S<B>; C]; R],
-    b: &[[S<B>; C]; R],
-) -> [[S<B>; C]; R] {
-    core::array::from_fn(|i| core::array::from_fn(|j| a[i][j] + b[i][j]))
 }
 
 /// `expm_SO3` as the lab writes it: `I + sinc θ r^ + ½ sinc²(θ/2) r^²`
@@ -224,9 +205,9 @@ impl<B: Backend> FdclEkf<B> {
         put::<B, 10, 7>(&mut f, 6, 3, self.r_bi);
         f[9][6] = S::<B>::one();
         let scale = |m: &Mat<S<B>, FDCL_DIM>, k: S<B>| m.map(|r| r.map(|x| x * k));
-        let id = identity::<B, FDCL_DIM>();
-        let psi = add::<B, 10, 10>(&id, &scale(&a, hs / lit::<B>(2.0)));
-        let phi = add::<B, 10, 10>(&id, &scale(&mul(&a, &psi), hs));
+        let id = kalman::identity::<S<B>, FDCL_DIM>();
+        let psi = kalman::add::<S<B>, 10, 10>(&id, &scale(&a, hs / lit::<B>(2.0)));
+        let phi = kalman::add::<S<B>, 10, 10>(&id, &scale(&mul(&a, &psi), hs));
         let fd = mul(&psi, &f).map(|r| r.map(|x| x * hs));
         let q: [[S<B>; 7]; 7] = core::array::from_fn(|i| {
             core::array::from_fn(|j| {
@@ -237,7 +218,7 @@ impl<B: Backend> FdclEkf<B> {
                 }
             })
         });
-        self.p = add::<B, 10, 10>(
+        self.p = kalman::add::<S<B>, 10, 10>(
             &mul(&mul(&phi, &self.p), &transpose(&phi)),
             &mul(&mul(&fd, &q), &transpose(&fd)),
         );
@@ -303,7 +284,7 @@ impl<B: Backend> FdclEkf<B> {
         dz: &[S<B>; M],
     ) -> Option<[[S<B>; M]; FDCL_DIM]> {
         let ph = mul(&self.p, &transpose(h));
-        let s = add::<B, M, M>(&mul(h, &ph), v);
+        let s = kalman::add::<S<B>, M, M>(&mul(h, &ph), v);
         let si = spd_inverse(&s)?;
         let nis = (0..M).fold(S::<B>::zero(), |a, i| {
             a + dz[i] * (0..M).fold(S::<B>::zero(), |b, j| b + si[i][j] * dz[j])
@@ -338,7 +319,7 @@ impl<B: Backend> FdclEkf<B> {
                 }
             })
         });
-        self.p = add::<B, 10, 10>(
+        self.p = kalman::add::<S<B>, 10, 10>(
             &mul(&mul(&ikh, &self.p), &transpose(&ikh)),
             &mul(&mul(k, v), &transpose(k)),
         );

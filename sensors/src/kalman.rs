@@ -93,6 +93,19 @@ pub fn mul<T: Real, const R: usize, const K: usize, const C: usize>(
     })
 }
 
+/// `A + B`.
+pub fn add<T: Real, const R: usize, const C: usize>(
+    a: &[[T; C]; R],
+    b: &[[T; C]; R],
+) -> [[T; C]; R] {
+    core::array::from_fn(|i| core::array::from_fn(|j| a[i][j] + b[i][j]))
+}
+
+/// The `N×N` identity.
+pub fn identity<T: Real, const N: usize>() -> Mat<T, N> {
+    core::array::from_fn(|i| core::array::from_fn(|j| if i == j { T::one() } else { T::zero() }))
+}
+
 /// `Aᵀ`.
 pub fn transpose<T: Real, const R: usize, const C: usize>(a: &[[T; C]; R]) -> [[T; R]; C] {
     core::array::from_fn(|i| core::array::from_fn(|j| a[j][i]))
