@@ -15,8 +15,8 @@ use crate::{Line, Stats, elapsed, emit, high_water, paint};
 
 static STREAM: &[u8] = include_bytes!("../vectors/estimators-f32.bin");
 
-/// How far below the caller the stack is painted: the invariant EKF's
-/// updates hold a few 15×15 `f32` matrices (900 B each).
+/// How far below the caller the stack is painted: well past what the
+/// invariant EKF's updates need (a correction copies its 900 B covariance).
 const PAINT_BYTES: usize = 16 * 1024;
 
 /// The filters' blocks: statics, as a flight image would hold them.

@@ -379,66 +379,35 @@ impl<B: Backend> Iekf<B> {
                 }
             }
         }
-        let phi_left = |m: &Mat<S<B>, IEKF_DIM>| -> Mat<S<B>, IEKF_DIM> {
-            let mut out = *m;
-            for c in 0..IEKF_DIM {
-                // Φ_nav: ρ += h ν + ½h² g^φ; ν += h g^φ (g^ φ = g(−φ₂, φ₁, 0)).
-                let (f0, f1) = (m[6][c], m[7][c]);
-                let gphi = [-g * f1, g * f0];
-                for k in 0..2 {
-                    out[k][c] = m[k][c] + h * m[3 + k][c] + half * gphi[k];
-                    out[3 + k][c] = m[3 + k][c] + h * gphi[k];
-                }
-                out[2][c] = m[2][c] + h * m[5][c];
-                for (i, brow) in bm.iter().enumerate() {
-                    let add = (0..6).fold(S::<B>::zero(), |s, k| s + brow[k] * m[9 + k][c]);
-                    out[i][c] += add;
-                }
+        // Φ P Φᵀ in place: Φ on every column, then on every row (P Φᵀ is
+        // Φ applied to P's rows), without a second 15×15 matrix.
+        let phi = |v: &mut [S<B>; IEKF_DIM]| {
+            let m = *v;
+            // Φ_nav: ρ += h ν + ½h² g^φ; ν += h g^φ (g^ φ = g(−φ₂, φ₁, 0)).
+            let gphi = [-g * m[7], g * m[6]];
+            for k in 0..2 {
+                v[k] = m[k] + h * m[3 + k] + half * gphi[k];
+                v[3 + k] = m[3 + k] + h * gphi[k];
             }
-            out
+            v[2] = m[2] + h * m[5];
+            for (i, brow) in bm.iter().enumerate() {
+                let add = (0..6).fold(S::<B>::zero(), |s, k| s + brow[k] * m[9 + k]);
+                v[i] += add;
+            }
         };
-        let transpose = |m: Mat<S<B>, IEKF_DIM>| -> Mat<S<B>, IEKF_DIM> {
-            core::array::from_fn(|i| core::array::from_fn(|j| m[j][i]))
-        };
-        let mut p = transpose(phi_left(&transpose(phi_left(&self.p))));
-        self.add_process_noise(&mut p, h, xh, vh);
-        symmetrize(&mut p);
-        self.p = p;
-    }
-
-    /// `Q_d = Ad_X̂ diag(0, σ_a² I, σ_g² I) Ad_X̂ᵀ h` on the extended pose
-    /// (closed form, `R Rᵀ = I`), the walks' `σ² h` on the biases.
-    fn add_process_noise(&self, p: &mut Mat<S<B>, IEKF_DIM>, h: S<B>, xh: M3<B>, vh: M3<B>) {
-        let c = &self.cfg;
-        let hq = h * self.q_scale;
-        let (qg, qa) = (
-            lit::<B>(c.gyro_density * c.gyro_density) * hq,
-            lit::<B>(c.accel_density * c.accel_density) * hq,
-        );
-        let id = ops::identity::<B>();
-        let col = [xh, vh, id];
-        for bi in 0..3 {
-            for bj in 0..3 {
-                let mut q = col[bi] * B::mat3_transpose(col[bj]) * qg;
-                if bi == 1 && bj == 1 {
-                    q = q + id * qa;
-                }
-                let e = ops::elems::<B>(q);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        p[3 * bi + i][3 * bj + j] += e[i][j];
-                    }
-                }
+        let p = &mut self.p;
+        for c in 0..IEKF_DIM {
+            let mut col: [S<B>; IEKF_DIM] = core::array::from_fn(|i| p[i][c]);
+            phi(&mut col);
+            for (row, x) in p.iter_mut().zip(col) {
+                row[c] = x;
             }
         }
-        let (wg, wa) = (
-            lit::<B>(c.gyro_walk * c.gyro_walk) * hq,
-            lit::<B>(c.accel_walk * c.accel_walk) * hq,
-        );
-        for k in 0..3 {
-            p[9 + k][9 + k] += wg;
-            p[12 + k][12 + k] += wa;
+        for row in p.iter_mut() {
+            phi(row);
         }
+        add_process_noise::<B>(&self.cfg, self.q_scale, &mut self.p, h, xh, vh);
+        symmetrize(&mut self.p);
     }
 
     /// Rows `(H, residual, variance)` applied together, then the
@@ -538,6 +507,47 @@ impl<B: Backend> Iekf<B> {
         self.propagate(t);
         self.held = Some((w, f));
         true
+    }
+}
+
+/// `Q_d = Ad_X̂ diag(0, σ_a² I, σ_g² I) Ad_X̂ᵀ h` on the extended pose
+/// (closed form, `R Rᵀ = I`), the walks' `σ² h` on the biases.
+fn add_process_noise<B: Backend>(
+    c: &IekfConfig,
+    q_scale: S<B>,
+    p: &mut Mat<S<B>, IEKF_DIM>,
+    h: S<B>,
+    xh: M3<B>,
+    vh: M3<B>,
+) {
+    let hq = h * q_scale;
+    let (qg, qa) = (
+        lit::<B>(c.gyro_density * c.gyro_density) * hq,
+        lit::<B>(c.accel_density * c.accel_density) * hq,
+    );
+    let id = ops::identity::<B>();
+    let col = [xh, vh, id];
+    for bi in 0..3 {
+        for bj in 0..3 {
+            let mut q = col[bi] * B::mat3_transpose(col[bj]) * qg;
+            if bi == 1 && bj == 1 {
+                q = q + id * qa;
+            }
+            let e = ops::elems::<B>(q);
+            for i in 0..3 {
+                for j in 0..3 {
+                    p[3 * bi + i][3 * bj + j] += e[i][j];
+                }
+            }
+        }
+    }
+    let (wg, wa) = (
+        lit::<B>(c.gyro_walk * c.gyro_walk) * hq,
+        lit::<B>(c.accel_walk * c.accel_walk) * hq,
+    );
+    for k in 0..3 {
+        p[9 + k][9 + k] += wg;
+        p[12 + k][12 + k] += wa;
     }
 }
 
