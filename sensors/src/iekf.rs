@@ -379,11 +379,37 @@ impl<B: Backend> Iekf<B> {
                 }
             }
         }
-        // Φ P Φᵀ in place: Φ on every column, then on every row (P Φᵀ is
-        // Φ applied to P's rows), without a second 15×15 matrix.
+        // Φ P Φᵀ in place: Φ P as row operations (a row reads only rows
+        // below it, still unchanged when it is written), then P Φᵀ as Φ on
+        // every row; no second 15×15 matrix. Φ_nav: ρ += h ν + ½h² g^φ,
+        // ν += h g^φ with g^ φ = g(−φ₂, φ₁, 0); then B times the biases.
+        let p = &mut self.p;
+        let bias = |p: &Mat<S<B>, IEKF_DIM>, i: usize, c: usize| {
+            (0..6).fold(S::<B>::zero(), |s, k| s + bm[i][k] * p[9 + k][c])
+        };
+        for c in 0..IEKF_DIM {
+            p[0][c] = p[0][c] + h * p[3][c] + half * (-g * p[7][c]) + bias(p, 0, c);
+        }
+        for c in 0..IEKF_DIM {
+            p[1][c] = p[1][c] + h * p[4][c] + half * (g * p[6][c]) + bias(p, 1, c);
+        }
+        for c in 0..IEKF_DIM {
+            p[2][c] = p[2][c] + h * p[5][c] + bias(p, 2, c);
+        }
+        for c in 0..IEKF_DIM {
+            p[3][c] = p[3][c] + h * (-g * p[7][c]) + bias(p, 3, c);
+        }
+        for c in 0..IEKF_DIM {
+            p[4][c] = p[4][c] + h * (g * p[6][c]) + bias(p, 4, c);
+        }
+        for i in 5..9 {
+            for c in 0..IEKF_DIM {
+                let b = bias(p, i, c);
+                p[i][c] += b;
+            }
+        }
         let phi = |v: &mut [S<B>; IEKF_DIM]| {
             let m = *v;
-            // Φ_nav: ρ += h ν + ½h² g^φ; ν += h g^φ (g^ φ = g(−φ₂, φ₁, 0)).
             let gphi = [-g * m[7], g * m[6]];
             for k in 0..2 {
                 v[k] = m[k] + h * m[3 + k] + half * gphi[k];
@@ -395,14 +421,6 @@ impl<B: Backend> Iekf<B> {
                 v[i] += add;
             }
         };
-        let p = &mut self.p;
-        for c in 0..IEKF_DIM {
-            let mut col: [S<B>; IEKF_DIM] = core::array::from_fn(|i| p[i][c]);
-            phi(&mut col);
-            for (row, x) in p.iter_mut().zip(col) {
-                row[c] = x;
-            }
-        }
         for row in p.iter_mut() {
             phi(row);
         }
