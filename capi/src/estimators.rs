@@ -361,6 +361,28 @@ fn place<T>(words: &mut [u64], tag: u64, filter: T, t: f64) {
     words[0] = tag;
 }
 
+/// Starts a built filter at `initial` at `t` and writes it into the
+/// block; the block is left as it was on any error.
+fn start<F: Estimator<B>>(
+    words: &mut [u64],
+    tag: u64,
+    built: Result<F, GpcStatus>,
+    t: f64,
+    s: &GpcState,
+) -> GpcStatus {
+    let started = built.and_then(|mut e| {
+        e.reset(t, &initial(t, s)?);
+        Ok(e)
+    });
+    match started {
+        Ok(e) => {
+            place(words, tag, e, t);
+            GpcStatus::Ok
+        }
+        Err(status) => status,
+    }
+}
+
 /// Feeds an IMU sample to a held filter, unless it goes back before the
 /// latest one or is not finite.
 fn feed_imu<F: Estimator<B>>(h: &mut Held<F>, s: &GpcImuSample) -> Result<(), GpcStatus> {
@@ -412,19 +434,9 @@ pub extern "C" fn gpc_iekf_init(
     let (Some(f), Some(c), Some(s)) = (filter, config, initial_state) else {
         return GpcStatus::NullPointer;
     };
-    let built = iekf_config(c).and_then(|cfg| {
-        let start = initial(t, s)?;
-        let mut e = Iekf::<B>::new(cfg).map_err(|_| GpcStatus::InvalidConfig)?;
-        e.reset(t, &start);
-        Ok(e)
-    });
-    match built {
-        Ok(e) => {
-            place(&mut f.opaque, IEKF_TAG, e, t);
-            GpcStatus::Ok
-        }
-        Err(status) => status,
-    }
+    let built =
+        iekf_config(c).and_then(|cfg| Iekf::<B>::new(cfg).map_err(|_| GpcStatus::InvalidConfig));
+    start(&mut f.opaque, IEKF_TAG, built, t, s)
 }
 
 /// Propagates the filter to the sample's time on the previous sample's
@@ -556,19 +568,9 @@ pub extern "C" fn gpc_complementary_init(
     let (Some(f), Some(c), Some(s)) = (filter, config, initial_state) else {
         return GpcStatus::NullPointer;
     };
-    let built = complementary_config(c).and_then(|cfg| {
-        let start = initial(t, s)?;
-        let mut e = Complementary::<B>::new(cfg).map_err(|_| GpcStatus::InvalidConfig)?;
-        e.reset(t, &start);
-        Ok(e)
-    });
-    match built {
-        Ok(e) => {
-            place(&mut f.opaque, COMPLEMENTARY_TAG, e, t);
-            GpcStatus::Ok
-        }
-        Err(status) => status,
-    }
+    let built = complementary_config(c)
+        .and_then(|cfg| Complementary::<B>::new(cfg).map_err(|_| GpcStatus::InvalidConfig));
+    start(&mut f.opaque, COMPLEMENTARY_TAG, built, t, s)
 }
 
 /// Turns the attitude to the sample's time on the previous sample's rate

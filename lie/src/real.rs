@@ -57,10 +57,10 @@ pub trait Real:
     /// three-term series. Their closed forms have no cancellation (the
     /// half-angle form is used for the second), so the cut-off only has to
     /// keep `θ²` away from underflow and `0/0`; it is set where the first
-    /// dropped term, `θ⁶/5040`, is far below one ulp (in f32 at 0.1 it is
-    /// 2e-10, 300 times below: high enough that an IMU step or a filter's
-    /// correction never calls `sin_cos`, which on a CPU without a
-    /// double-precision unit costs a few thousand instructions in libm).
+    /// dropped term, `θ⁶/5040`, is far below one ulp. In f32 that allows a
+    /// cut-off high enough that an IMU step or a filter's correction never
+    /// calls `sin_cos`, which libm evaluates in software `f64` on a CPU
+    /// without a double-precision unit.
     const CUT_EXP: Self;
     /// Below this angle `C = (θ − sin θ)/θ³` and `D = 1/θ² − cot(θ/2)/(2θ)`
     /// use seven-term series. Measured against 50-digit references: in f64

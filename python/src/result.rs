@@ -200,8 +200,8 @@ fn measurements<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Bound<'py, Py
 /// `omega`; for a filter that keeps a covariance also `sigma`, the
 /// standard deviations of its error states, `NaN` past its count, `nis`,
 /// its last correction's NIS, and `innovation`, that correction's
-/// measured minus predicted, `NaN` past its count), or `None` for a run
-/// without an estimator.
+/// observation less its prediction, `NaN` past its count), or `None` for
+/// a run without an estimator.
 fn estimate<'py>(py: Python<'py>, out: &RunOutput) -> PyResult<Option<Bound<'py, PyDict>>> {
     let est: Vec<scenarios::NavSample> = out
         .samples

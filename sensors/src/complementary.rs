@@ -122,11 +122,6 @@ impl<B: Backend> Complementary<B> {
     pub fn rejections(&self) -> u64 {
         self.rejected
     }
-    /// The attitude estimate's time: the latest IMU sample's or
-    /// measurement's, s.
-    pub fn time(&self) -> f64 {
-        self.t
-    }
     /// Starts from attitude `r` (anything, e.g. deliberately wrong),
     /// position `x`, velocity `v`, zero bias.
     pub fn reset_to(&mut self, t: f64, r: So3Mat<B>, x: V3<B>, v: V3<B>) {

@@ -107,7 +107,7 @@ pub struct Diagnostics {
     pub states: usize,
     /// The last correction's NIS and degrees of freedom.
     pub nis: Option<(f64, usize)>,
-    /// The last correction's innovation, measured minus predicted, in the
+    /// The last correction's innovation, the observation less its prediction, in the
     /// filter's measurement coordinates and order (the invariant EKF's
     /// mocap update: position, then attitude as `Log(R_m R̂ᵀ)`); its first
     /// `nis.1` entries, `NaN` past them and before the first correction.

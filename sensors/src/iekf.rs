@@ -305,10 +305,6 @@ impl<B: Backend> Iekf<B> {
     pub fn rejections(&self) -> Rejections {
         self.rejected
     }
-    /// The estimate's time: the latest IMU sample's or measurement's, s.
-    pub fn time(&self) -> f64 {
-        self.t
-    }
     /// Starts from `x0` with the configured initial covariance and zero
     /// biases: the estimate may be anything, e.g. deliberately wrong.
     pub fn reset_to(&mut self, t: f64, x0: Se23<B>) {

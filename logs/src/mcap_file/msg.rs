@@ -123,8 +123,8 @@ pub struct EstimateDiagnostics {
     pub nis: f64,
     /// That correction's degrees of freedom (0 before the first).
     pub nis_dof: u32,
-    /// That correction's innovation, measured minus predicted in the
-    /// filter's measurement coordinates (`nis_dof` values).
+    /// That correction's innovation: the observation less its prediction,
+    /// in the filter's measurement coordinates (`nis_dof` values).
     pub innovation: Vec<f64>,
 }
 
